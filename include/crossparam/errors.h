@@ -1,0 +1,45 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Exception types thrown by crossparam. The library never prints: every failure a user can cause is an
+// exception whose what() names the input (file or mesh) and the problem, with a line or index where there is one.
+#ifndef CROSSPARAM_ERRORS_H
+#define CROSSPARAM_ERRORS_H
+
+#include <stdexcept>
+#include <string>
+
+namespace crossparam {
+
+/// Base class of every exception crossparam throws.
+class Error : public std::runtime_error {
+public:
+  using std::runtime_error::runtime_error;
+};
+
+/// A file could not be read, or a mesh is not a valid input (open, non-manifold, non-finite, ...).
+class Input_error : public Error {
+public:
+  using Error::Error;
+};
+
+/// The feature correspondence is invalid (malformed line, index out of range, duplicates, too few).
+class Feature_error : public Input_error {
+public:
+  using Input_error::Input_error;
+};
+
+/// The two inputs are individually valid but cannot be used together (different genus, ...).
+class Incompatible_inputs_error : public Input_error {
+public:
+  using Input_error::Input_error;
+};
+
+/// An algorithm could not complete, or a result failed its independent verification.
+/// Seeing this is a bug in crossparam or an unsupported case that the message names.
+class Algorithm_error : public Error {
+public:
+  using Error::Error;
+};
+
+} // namespace crossparam
+
+#endif // CROSSPARAM_ERRORS_H

@@ -1,0 +1,469 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Topologically identical triangular patch layouts of two closed genus-0 meshes (Kraevoy & Sheffer 2004, §3).
+//
+// Invariant kept after every path pair added: the two partial layouts are topologically identical, i.e. the
+// rotation of path ids around every feature is the same on both meshes, and every patch contains the same
+// paths and isolated features on both. A candidate pair (s, t) keeps the invariant iff it leaves each
+// endpoint in corresponding sectors (sector = wedge between consecutive paths, named by the path on its
+// clockwise side) and, when it splits its patch, leaves the same paths and isolated features on its left on
+// both meshes (the blocking test: fronts from the same side of both paths, §3 condition 3).
+//
+// Stages: §3.1 PathMatch on the edge graphs (shortest pairs first, lazy Update: stale paths are recomputed
+// when popped, paths in the wrong sector are recomputed inside the right one); §3.2 make-simple then
+// triangulation of the patches by chords traced on the face graph and turned into edge paths with splits;
+// §3.3 path flips. Genus 0 guarantees completion: once the layout graph is connected every patch is a disk
+// and any chord between two of its corners splits it identically on both meshes.
+#ifndef CROSSPARAM_INTERNAL_LAYOUT_BUILDER_H
+#define CROSSPARAM_INTERNAL_LAYOUT_BUILDER_H
+
+#include <crossparam/internal/layout_mesh.h>
+
+#include <array>
+#include <chrono>
+#include <map>
+#include <sstream>
+
+namespace crossparam {
+
+/// Counts and timings of one layout computation (paper §3).
+struct Layout_statistics {
+  std::size_t features = 0;
+  std::size_t edge_paths = 0;             ///< path pairs traced on the edge graphs by PathMatch (§3.1)
+  std::size_t face_paths = 0;             ///< path pairs added by make-simple and triangulation (§3.2)
+  std::size_t face_traced_source = 0;     ///< of those, paths that needed the face graph on the source
+  std::size_t face_traced_target = 0;     ///< ... and on the target
+  std::size_t splits_source = 0;          ///< edge splits on the source
+  std::size_t splits_target = 0;          ///< edge splits on the target
+  std::size_t flips = 0;                  ///< path flips (§3.3)
+  std::size_t rejected_blocking = 0;      ///< candidate pairs dropped by the blocking test
+  std::size_t sector_recomputations = 0;  ///< paths recomputed inside the matching sector (Update, rule 3)
+  std::size_t path_recomputations = 0;    ///< paths recomputed after their vertices were taken (Update, 1-2)
+  double seconds_edge_paths = 0;
+  double seconds_face_paths = 0;
+  double seconds_flips = 0;
+  double seconds_total = 0;
+};
+
+namespace internal {
+
+class Layout_builder {
+public:
+  Layout_mesh side[2];                       ///< 0: source, 1: target
+  std::vector<std::array<int, 2>> path_ends; ///< endpoints (features) of each path id; {-1,-1} once removed
+  std::vector<int> degree;                   ///< number of paths at each feature (same on both meshes)
+  std::vector<int> connection;               ///< nf x nf: path id joining two features, or no_path
+  Layout_statistics stats;
+  bool do_flips = true;
+  std::size_t max_flip_splits = 2; ///< a flip may split at most this many edges on each mesh
+
+  std::size_t nf() const { return degree.size(); }
+  int& connected(int a, int b) { return connection[std::size_t(a) * nf() + std::size_t(b)]; }
+
+  void run() {
+    using clock = std::chrono::steady_clock;
+    auto t0 = clock::now();
+    degree.assign(side[0].feature_vertex.size(), 0);
+    connection.assign(nf() * nf(), no_path);
+    stats.features = nf();
+    path_match();
+    auto t1 = clock::now();
+    complete_with_face_paths();
+    auto t2 = clock::now();
+    if (do_flips) flip_paths();
+    auto t3 = clock::now();
+    stats.splits_source = side[0].splits.size();
+    stats.splits_target = side[1].splits.size();
+    auto sec = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
+    stats.seconds_edge_paths = sec(t0, t1);
+    stats.seconds_face_paths = sec(t1, t2);
+    stats.seconds_flips = sec(t2, t3);
+    stats.seconds_total = sec(t0, t3);
+  }
+
+  // ---------------------------------------------------------------------------------------------------
+  // Adding and removing path pairs
+  // ---------------------------------------------------------------------------------------------------
+  int add_path(int a, int b, const Halfedge_path& hs, const Halfedge_path& ht, int reuse_id = -1) {
+    int id = reuse_id;
+    if (id < 0) {
+      id = int(path_ends.size());
+      path_ends.push_back({a, b});
+    } else {
+      path_ends[id] = {a, b};
+    }
+    side[0].mark_path(id, hs);
+    side[1].mark_path(id, ht);
+    ++degree[a];
+    ++degree[b];
+    connected(a, b) = connected(b, a) = id;
+    check_rotation(a);
+    check_rotation(b);
+    return id;
+  }
+
+  void remove_path(int id) {
+    auto [a, b] = path_ends[id];
+    side[0].unmark_path(id);
+    side[1].unmark_path(id);
+    --degree[a];
+    --degree[b];
+    connected(a, b) = connected(b, a) = no_path;
+    path_ends[id] = {-1, -1};
+  }
+
+  /// Self-check: the cyclic order of paths around feature a is the same on both meshes.
+  void check_rotation(int a) const {
+    auto r0 = side[0].rotation(side[0].feature_vertex[a]);
+    auto r1 = side[1].rotation(side[1].feature_vertex[a]);
+    bool same = r0.size() == r1.size();
+    if (same && !r0.empty()) {
+      auto it = std::find(r1.begin(), r1.end(), r0[0]);
+      same = it != r1.end();
+      if (same) {
+        std::rotate(r1.begin(), it, r1.end());
+        same = r0 == r1;
+      }
+    }
+    if (!same)
+      throw Algorithm_error("internal error: cyclic order of paths at feature " + std::to_string(a) +
+                            " differs between the meshes");
+  }
+
+  /// Corners (sectors) of a halfedge path at both ends.
+  std::pair<int, int> corners(int s, const Halfedge_path& hp) const {
+    const Layout_mesh& L = side[s];
+    return {L.corner_of_outgoing(hp.front()), L.corner_of_outgoing(L.m.opposite(hp.back()))};
+  }
+
+  /// The blocking test: whether adding (hs, ht) keeps the two layouts topologically identical, given that
+  /// their corners already correspond.
+  bool non_blocking(const Halfedge_path& hs, const Halfedge_path& ht) const {
+    const int tmp = int(path_ends.size());
+    auto a = side[0].left_side_signature(hs, tmp, degree);
+    auto b = side[1].left_side_signature(ht, tmp, degree);
+    if (a.splits != b.splits) return false;
+    if (!a.splits) return true;
+    return a.paths == b.paths && a.isolated == b.isolated;
+  }
+
+  // ---------------------------------------------------------------------------------------------------
+  // §3.1 PathMatch
+  // ---------------------------------------------------------------------------------------------------
+  struct Pair_state {
+    int a = 0, b = 0;
+    Halfedge_path s, t;
+    unsigned version = 0;
+    unsigned recomputations = 0;
+    bool dead = false;
+  };
+
+  void path_match() {
+    const int n = int(nf());
+    std::vector<std::vector<Halfedge_path>> ps(n), pt(n);
+    for (int a = 0; a < n; ++a) {
+      ps[a] = side[0].shortest_paths_from(a);
+      pt[a] = side[1].shortest_paths_from(a);
+    }
+    std::vector<Pair_state> pairs;
+    using QE = std::tuple<double, std::size_t, unsigned>;
+    std::priority_queue<QE, std::vector<QE>, std::greater<QE>> q;
+    auto push = [&](std::size_t i) {
+      Pair_state& p = pairs[i];
+      q.push({side[0].path_length(p.s) + side[1].path_length(p.t), i, p.version});
+    };
+    for (int a = 0; a < n; ++a)
+      for (int b = a + 1; b < n; ++b) {
+        if (ps[a][b].empty() || pt[a][b].empty()) continue;
+        Pair_state p;
+        p.a = a;
+        p.b = b;
+        p.s = std::move(ps[a][b]);
+        p.t = std::move(pt[a][b]);
+        pairs.push_back(std::move(p));
+        push(pairs.size() - 1);
+      }
+    // Each pair is recomputed at most this often; every recomputation follows a path added since the last
+    // one or fixes sectors once, so the bound is never reached in practice. It only guarantees termination.
+    const unsigned max_recomputations = 4 * unsigned(3 * n) + 8;
+    while (!q.empty()) {
+      auto [key, i, version] = q.top();
+      q.pop();
+      Pair_state& p = pairs[i];
+      if (p.dead || version != p.version || connected(p.a, p.b) != no_path) continue;
+      auto recompute = [&](Halfedge_path& hp, int s, int ca, int cb) {
+        hp = side[s].shortest_path(p.a, p.b, ca, cb);
+        return !hp.empty();
+      };
+      auto requeue = [&]() {
+        if (++p.recomputations > max_recomputations) {
+          p.dead = true;
+          return;
+        }
+        ++p.version;
+        push(i);
+      };
+      // Update, rules 1-2: paths through vertices now taken by other paths are recomputed.
+      bool fs = side[0].path_still_free(p.s), ft = side[1].path_still_free(p.t);
+      if (!fs || !ft) {
+        ++stats.path_recomputations;
+        if ((!fs && !recompute(p.s, 0, Layout_mesh::any_corner, Layout_mesh::any_corner)) ||
+            (!ft && !recompute(p.t, 1, Layout_mesh::any_corner, Layout_mesh::any_corner))) {
+          p.dead = true;
+          continue;
+        }
+        requeue();
+        continue;
+      }
+      // Update, rule 3: both paths must leave and enter their features in corresponding sectors.
+      auto cs = corners(0, p.s), ct = corners(1, p.t);
+      if (cs != ct) {
+        ++stats.sector_recomputations;
+        Halfedge_path t2 = side[1].shortest_path(p.a, p.b, cs.first, cs.second);
+        Halfedge_path s2 = side[0].shortest_path(p.a, p.b, ct.first, ct.second);
+        double la = t2.empty() ? HUGE_VAL : side[0].path_length(p.s) + side[1].path_length(t2);
+        double lb = s2.empty() ? HUGE_VAL : side[0].path_length(s2) + side[1].path_length(p.t);
+        if (t2.empty() && s2.empty()) {
+          p.dead = true;
+          continue;
+        }
+        if (la <= lb)
+          p.t = std::move(t2);
+        else
+          p.s = std::move(s2);
+        requeue();
+        continue;
+      }
+      if (!non_blocking(p.s, p.t)) {
+        ++stats.rejected_blocking;
+        p.dead = true;
+        continue;
+      }
+      add_path(p.a, p.b, p.s, p.t);
+      ++stats.edge_paths;
+    }
+  }
+
+  // ---------------------------------------------------------------------------------------------------
+  // The combinatorial layout: darts, loops (boundary walks of patches), patches
+  // ---------------------------------------------------------------------------------------------------
+  struct Dart {
+    int path;
+    int from; // feature the dart leaves; the corner on its left at `from` is (from, path)
+  };
+
+  struct Combinatorics {
+    std::vector<std::vector<int>> rotation; // per feature, path ids counter-clockwise
+    std::vector<std::vector<Dart>> loops;   // boundary walks, darts in order, patch on the left
+    std::vector<int> loop_patch;            // patch label (on the source) of each loop
+    std::vector<int> isolated_patch;        // per feature: patch label if isolated, else -1
+    std::vector<int> face_label;            // source patch labels
+    int patches = 0;
+  };
+
+  int other_end(int path, int from) const {
+    return path_ends[path][0] == from ? path_ends[path][1] : path_ends[path][0];
+  }
+
+  /// The first halfedge of a dart on mesh s (leaving the dart's feature).
+  WH dart_halfedge(int s, const Dart& d) const {
+    const Layout_mesh& L = side[s];
+    const Halfedge_path& hp = L.paths[d.path];
+    return path_ends[d.path][0] == d.from ? hp.front() : L.m.opposite(hp.back());
+  }
+
+  Dart next_dart(const Combinatorics& c, const Dart& d) const {
+    int y = other_end(d.path, d.from);
+    const auto& r = c.rotation[y];
+    auto it = std::find(r.begin(), r.end(), d.path);
+    std::size_t k = std::size_t(it - r.begin());
+    int q = r[(k + r.size() - 1) % r.size()]; // clockwise neighbour of the reverse dart
+    return {q, y};
+  }
+
+  Combinatorics combinatorics() const {
+    Combinatorics c;
+    const Layout_mesh& L = side[0];
+    c.rotation.resize(nf());
+    for (std::size_t a = 0; a < nf(); ++a) c.rotation[a] = L.rotation(L.feature_vertex[a]);
+    c.patches = L.label_patches(c.face_label);
+    std::map<std::pair<int, int>, char> seen; // (path, from)
+    for (int p = 0; p < int(path_ends.size()); ++p) {
+      if (path_ends[p][0] < 0) continue;
+      for (int e = 0; e < 2; ++e) {
+        Dart d0{p, path_ends[p][e]};
+        if (seen.count({d0.path, d0.from})) continue;
+        std::vector<Dart> loop;
+        Dart d = d0;
+        do {
+          seen[{d.path, d.from}] = 1;
+          loop.push_back(d);
+          d = next_dart(c, d);
+        } while (!(d.path == d0.path && d.from == d0.from));
+        c.loop_patch.push_back(c.face_label[L.m.face(dart_halfedge(0, d0))]);
+        c.loops.push_back(std::move(loop));
+      }
+    }
+    c.isolated_patch.assign(nf(), -1);
+    for (std::size_t a = 0; a < nf(); ++a)
+      if (degree[a] == 0) c.isolated_patch[a] = c.face_label[L.m.face(L.out_halfedge(L.feature_vertex[a]))];
+    return c;
+  }
+
+  double feature_distance(int a, int b) const {
+    double d = 0;
+    for (int s = 0; s < 2; ++s) {
+      const Layout_mesh& L = side[s];
+      d += std::sqrt(CGAL::squared_distance(L.m.point(L.feature_vertex[a]), L.m.point(L.feature_vertex[b])));
+    }
+    return d;
+  }
+
+  /// Traces a path between two corners on mesh s: an edge path when one exists through free vertices,
+  /// otherwise a face path turned into an edge path with splits.
+  Halfedge_path trace(int s, int a, int b, int ca, int cb, bool& used_faces) {
+    Layout_mesh& L = side[s];
+    Halfedge_path hp = L.shortest_path(a, b, ca, cb);
+    used_faces = hp.empty();
+    if (used_faces) hp = L.halfedges_of(L.trace_face_path(a, b, ca, cb));
+    auto c = corners(s, hp);
+    if (c.first != ca || c.second != cb)
+      throw Algorithm_error("internal error: traced path left its sectors");
+    return hp;
+  }
+
+  void add_traced_pair(int a, int b, int ca, int cb) {
+    bool fs = false, ft = false;
+    Halfedge_path hs = trace(0, a, b, ca, cb, fs);
+    Halfedge_path ht = trace(1, a, b, ca, cb, ft);
+    if (!non_blocking(hs, ht))
+      throw Algorithm_error("internal error: a path pair traced inside matching patches splits them differently");
+    stats.face_traced_source += fs;
+    stats.face_traced_target += ft;
+    add_path(a, b, hs, ht);
+  }
+
+  // ---------------------------------------------------------------------------------------------------
+  // §3.2 make-simple and triangulation
+  // ---------------------------------------------------------------------------------------------------
+  void complete_with_face_paths() {
+    // Each step adds one path; a triangulation of nf >= 3 features has 3 nf - 6 of them.
+    const std::size_t max_steps = 3 * nf() + 8;
+    for (std::size_t step = 0; step < max_steps; ++step) {
+      Combinatorics c = combinatorics();
+      // Components of each patch: loops and isolated features, as lists of corners (feature, sector).
+      struct Component {
+        std::vector<std::pair<int, int>> corners;
+      };
+      std::vector<std::vector<Component>> in_patch(c.patches);
+      for (std::size_t l = 0; l < c.loops.size(); ++l) {
+        Component comp;
+        for (const Dart& d : c.loops[l]) comp.corners.push_back({d.from, d.path});
+        in_patch[c.loop_patch[l]].push_back(std::move(comp));
+      }
+      for (std::size_t a = 0; a < nf(); ++a)
+        if (c.isolated_patch[a] >= 0) in_patch[c.isolated_patch[a]].push_back({{{int(a), isolated_corner}}});
+
+      // Make simple: join two components of one patch by the closest pair of corners.
+      double best = HUGE_VAL;
+      std::array<int, 4> pick{};
+      for (const auto& comps : in_patch) {
+        for (std::size_t i = 0; i < comps.size(); ++i)
+          for (std::size_t j = i + 1; j < comps.size(); ++j)
+            for (auto [x, cx] : comps[i].corners)
+              for (auto [y, cy] : comps[j].corners) {
+                double d = feature_distance(x, y);
+                if (d < best) {
+                  best = d;
+                  pick = {x, y, cx, cy};
+                }
+              }
+      }
+      if (best < HUGE_VAL) {
+        add_traced_pair(pick[0], pick[1], pick[2], pick[3]);
+        ++stats.face_paths;
+        continue;
+      }
+      // Triangulate: a chord between two non-adjacent corners of a loop longer than three, joining
+      // distinct features not yet joined (keeps the base mesh a simple triangulation).
+      for (const auto& loop : c.loops) {
+        const std::size_t k = loop.size();
+        if (k <= 3) continue;
+        for (std::size_t i = 0; i < k; ++i)
+          for (std::size_t j = i + 2; j < k; ++j) {
+            if (i == 0 && j == k - 1) continue;
+            int x = loop[i].from, y = loop[j].from;
+            if (x == y || connected(x, y) != no_path) continue;
+            double d = feature_distance(x, y);
+            if (d < best) {
+              best = d;
+              pick = {x, y, loop[i].path, loop[j].path};
+            }
+          }
+      }
+      if (best < HUGE_VAL) {
+        add_traced_pair(pick[0], pick[1], pick[2], pick[3]);
+        ++stats.face_paths;
+        continue;
+      }
+      // Nothing left to add: every loop must be a triangle now.
+      for (const auto& loop : c.loops)
+        if (loop.size() != 3)
+          throw Algorithm_error("internal error: a patch with " + std::to_string(loop.size()) +
+                                " sides has no valid chord");
+      return;
+    }
+    throw Algorithm_error("internal error: patch triangulation did not terminate");
+  }
+
+  // ---------------------------------------------------------------------------------------------------
+  // §3.3 path flips: replace path (a,b) by (c,d) when deg(a)+deg(b) > deg(c)+deg(d)+2.
+  // Each flip lowers the sum of squared degrees, so the loop terminates.
+  // ---------------------------------------------------------------------------------------------------
+  void flip_paths() {
+    bool changed = true;
+    std::size_t guard = 0;
+    while (changed && guard++ < 64 * nf() + 64) {
+      changed = false;
+      for (int p = 0; p < int(path_ends.size()); ++p) {
+        if (path_ends[p][0] < 0) continue;
+        Combinatorics c = combinatorics_rotations_only();
+        int a = path_ends[p][0], b = path_ends[p][1];
+        Dart dab{p, a}, dba{p, b};
+        Dart d1 = next_dart(c, dab);  // b -> c
+        Dart d2 = next_dart(c, d1);   // c -> a
+        Dart e1 = next_dart(c, dba);  // a -> d
+        Dart e2 = next_dart(c, e1);   // d -> b
+        int cc = d2.from, dd = e2.from;
+        if (cc == dd || connected(cc, dd) != no_path) continue;
+        if (degree[a] + degree[b] <= degree[cc] + degree[dd] + 2) continue;
+        // A flip is taken only when the new path needs at most max_flip_splits edge splits on each mesh:
+        // flips exist to improve valences, and every split adds a vertex to every output mesh.
+        Halfedge_path old_s = side[0].paths[p], old_t = side[1].paths[p];
+        remove_path(p);
+        bool affordable = true;
+        for (int s = 0; s < 2 && affordable; ++s)
+          if (side[s].shortest_path(cc, dd, d2.path, e2.path).empty())
+            affordable = side[s].face_path_split_count(cc, dd, d2.path, e2.path) <= max_flip_splits;
+        if (!affordable) {
+          add_path(a, b, old_s, old_t, p); // restore, same id
+          continue;
+        }
+        add_traced_pair(cc, dd, d2.path, e2.path);
+        ++stats.flips;
+        changed = true;
+      }
+    }
+  }
+
+  Combinatorics combinatorics_rotations_only() const {
+    Combinatorics c;
+    c.rotation.resize(nf());
+    for (std::size_t a = 0; a < nf(); ++a) c.rotation[a] = side[0].rotation(side[0].feature_vertex[a]);
+    return c;
+  }
+};
+
+} // namespace internal
+} // namespace crossparam
+
+#endif // CROSSPARAM_INTERNAL_LAYOUT_BUILDER_H

@@ -1,0 +1,529 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// One mesh of a partial patch layout: the working copy of the mesh, which of its edges and vertices carry
+// layout paths, and the local operations of paper §3 (sectors, constrained Dijkstra, face-path tracing with
+// edge splits, flood fills). Everything here is combinatorial: a sector at a feature, a side of a path and a
+// patch are read off the mesh's halfedge structure, so no decision depends on rounded coordinates.
+#ifndef CROSSPARAM_INTERNAL_LAYOUT_MESH_H
+#define CROSSPARAM_INTERNAL_LAYOUT_MESH_H
+
+#include <crossparam/errors.h>
+#include <crossparam/types.h>
+
+#include <CGAL/boost/graph/Euler_operations.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <queue>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace crossparam {
+
+/// One edge split performed while building a layout: edge (u, v) was split at u + t (v - u), creating
+/// vertex w. Indices are vertex indices in the order "original vertices, then appended ones".
+struct Edge_split {
+  std::size_t u = 0;
+  std::size_t v = 0;
+  std::size_t w = 0;
+  double t = 0.5;
+};
+
+namespace internal {
+
+using Work_mesh = CGAL::Surface_mesh<Point_3>;
+using WV = Work_mesh::Vertex_index;
+using WH = Work_mesh::Halfedge_index;
+using WE = Work_mesh::Edge_index;
+using WF = Work_mesh::Face_index;
+
+constexpr int no_path = -1;     ///< edge or vertex not on any path
+constexpr int no_feature = -1;  ///< vertex that is not a feature
+constexpr int isolated_corner = -1; ///< sector id of a feature that no path reaches yet
+
+/// Splits edge (u,v) of `tm` at u + t (v - u) and re-triangulates its two faces by connecting the new vertex
+/// to the opposite corners. Works on any MutableFaceGraph; the same call replays a split on a user's mesh.
+/// Returns the new vertex.
+template <class TriangleMesh, class VertexPointMap, class Point>
+typename boost::graph_traits<TriangleMesh>::vertex_descriptor
+split_edge_and_triangulate(TriangleMesh& tm, VertexPointMap vpm,
+                           typename boost::graph_traits<TriangleMesh>::vertex_descriptor u,
+                           typename boost::graph_traits<TriangleMesh>::vertex_descriptor v, const Point& p) {
+  auto hf = halfedge(u, v, tm);
+  if (!hf.second) throw Algorithm_error("internal error: split of an edge that does not exist " + std::to_string(std::size_t(u)) + " " + std::to_string(std::size_t(v)));
+  auto h = hf.first;                              // u -> v
+  auto hnew = CGAL::Euler::split_edge(h, tm);     // u -> w, followed by h: w -> v
+  auto w = target(hnew, tm);
+  put(vpm, w, p);
+  // Face on the side of h: u->w, w->v, v->x, x->u. Connect w with x.
+  if (!is_border(h, tm)) CGAL::Euler::split_face(hnew, next(h, tm), tm);
+  // Other side: v->w (opposite(h)), w->u (opposite(hnew)), u->y, y->v. Connect w with y.
+  auto ho = opposite(h, tm);
+  auto hno = opposite(hnew, tm);
+  if (!is_border(ho, tm)) CGAL::Euler::split_face(ho, next(hno, tm), tm);
+  return w;
+}
+
+/// A path of the layout on one mesh: halfedges from its first feature to its second.
+using Halfedge_path = std::vector<WH>;
+
+/// The working copy of one input mesh with its partial layout.
+class Layout_mesh {
+public:
+  Work_mesh m;
+  Work_mesh::Property_map<WV, int> vfeature; ///< feature id of a vertex, or no_feature
+  Work_mesh::Property_map<WV, int> vpath;    ///< path id if the vertex is interior to a path, else no_path
+  Work_mesh::Property_map<WE, int> epath;    ///< path id of an edge, or no_path
+  std::vector<WV> feature_vertex;            ///< vertex of each feature
+  std::vector<Edge_split> splits;            ///< splits in the order performed
+  std::vector<Halfedge_path> paths;          ///< per path id (empty once a path is removed)
+  std::size_t n_original_vertices = 0;
+
+  void init() {
+    vfeature = m.add_property_map<WV, int>("v:cp_feature", no_feature).first;
+    vpath = m.add_property_map<WV, int>("v:cp_path", no_path).first;
+    epath = m.add_property_map<WE, int>("e:cp_path", no_path).first;
+    n_original_vertices = m.number_of_vertices();
+  }
+
+  // ---- navigation around a vertex (outward orientation: counter-clockwise seen from outside) ----
+  WH cw(WH h) const { return m.next(m.opposite(h)); }  ///< next outgoing halfedge clockwise around source(h)
+  WH ccw(WH h) const { return m.opposite(m.prev(h)); } ///< next outgoing halfedge counter-clockwise
+  WH out_halfedge(WV v) const { return m.opposite(m.halfedge(v)); }
+  int path_of(WH h) const { return epath[m.edge(h)]; }
+  bool is_free(WV v) const { return vfeature[v] == no_feature && vpath[v] == no_path; }
+
+  /// The sector (corner) containing outgoing halfedge h of a feature: the id of the first path met turning
+  /// clockwise from h, h included; isolated_corner if no path leaves the vertex. The sector of path p is the
+  /// wedge on p's counter-clockwise side, up to the next path.
+  int corner_of_outgoing(WH h) const {
+    WH g = h;
+    do {
+      int p = path_of(g);
+      if (p != no_path) return p;
+      g = cw(g);
+    } while (g != h);
+    return isolated_corner;
+  }
+
+  /// Faces of sector `corner` at feature vertex v, counter-clockwise.
+  std::vector<WF> sector_faces(WV v, int corner) const {
+    std::vector<WF> out;
+    WH start = sector_first_halfedge(v, corner);
+    WH g = start;
+    do {
+      out.push_back(m.face(g));
+      g = ccw(g);
+    } while (g != start && path_of(g) == no_path);
+    return out;
+  }
+
+  /// The outgoing halfedge at v that bounds sector `corner` on its clockwise side.
+  WH sector_first_halfedge(WV v, int corner) const {
+    WH h0 = out_halfedge(v);
+    WH g = h0;
+    do {
+      if (corner == isolated_corner || path_of(g) == corner) return g;
+      g = ccw(g);
+    } while (g != h0);
+    throw Algorithm_error("internal error: sector not found at a feature vertex");
+  }
+
+  /// Path ids leaving feature vertex v, counter-clockwise.
+  std::vector<int> rotation(WV v) const {
+    std::vector<int> out;
+    WH h0 = out_halfedge(v);
+    WH g = h0;
+    do {
+      int p = path_of(g);
+      if (p != no_path) out.push_back(p);
+      g = ccw(g);
+    } while (g != h0);
+    return out;
+  }
+
+  double edge_length(WH h) const {
+    return std::sqrt(CGAL::squared_distance(m.point(m.source(h)), m.point(m.target(h))));
+  }
+
+  // ---- marking paths ----
+  void mark_path(int id, const Halfedge_path& hp) {
+    if (paths.size() <= std::size_t(id)) paths.resize(id + 1);
+    paths[id] = hp;
+    for (std::size_t i = 0; i < hp.size(); ++i) {
+      epath[m.edge(hp[i])] = id;
+      if (i > 0) vpath[m.source(hp[i])] = id;
+    }
+  }
+  void unmark_path(int id) {
+    for (std::size_t i = 0; i < paths[id].size(); ++i) {
+      epath[m.edge(paths[id][i])] = no_path;
+      if (i > 0) vpath[m.source(paths[id][i])] = no_path;
+    }
+    paths[id].clear();
+  }
+
+  /// Whether a stored candidate path is still usable: interior vertices free, no edge on a path.
+  bool path_still_free(const Halfedge_path& hp) const {
+    for (std::size_t i = 0; i < hp.size(); ++i) {
+      if (path_of(hp[i]) != no_path) return false;
+      if (i > 0 && !is_free(m.source(hp[i]))) return false;
+    }
+    return true;
+  }
+
+  double path_length(const Halfedge_path& hp) const {
+    double l = 0;
+    for (WH h : hp) l += edge_length(h);
+    return l;
+  }
+
+  // ---- Dijkstra on the edge graph of the free part of the mesh ----
+  struct Dijkstra_scratch {
+    std::vector<double> dist;
+    std::vector<WH> pred;
+    std::vector<std::uint32_t> stamp;
+    std::uint32_t current = 0;
+    void reset(std::size_t n) {
+      if (dist.size() < n) {
+        dist.resize(n);
+        pred.resize(n);
+        stamp.resize(n, 0);
+      }
+      if (++current == 0) {
+        std::fill(stamp.begin(), stamp.end(), 0);
+        current = 1;
+      }
+    }
+    bool seen(std::size_t i) const { return stamp[i] == current; }
+    double d(std::size_t i) const { return seen(i) ? dist[i] : std::numeric_limits<double>::infinity(); }
+    void set(std::size_t i, double v, WH p) { stamp[i] = current; dist[i] = v; pred[i] = p; }
+  };
+  mutable Dijkstra_scratch scratch;
+
+  Halfedge_path trace_back(WV from, WV to) const {
+    Halfedge_path hp;
+    WV v = to;
+    while (v != from) {
+      WH h = scratch.pred[v];
+      hp.push_back(h);
+      v = m.source(h);
+    }
+    std::reverse(hp.begin(), hp.end());
+    return hp;
+  }
+
+  /// Shortest edge paths from feature a to every feature it can reach through free vertices.
+  /// Result: for each feature id, the path (empty if unreachable, or if the feature is a itself).
+  std::vector<Halfedge_path> shortest_paths_from(int a) const {
+    const std::size_t nf = feature_vertex.size();
+    std::vector<Halfedge_path> out(nf);
+    WV va = feature_vertex[a];
+    scratch.reset(m.number_of_vertices());
+    using QE = std::pair<double, std::uint32_t>;
+    std::priority_queue<QE, std::vector<QE>, std::greater<QE>> q;
+    scratch.set(va, 0.0, WH());
+    q.push({0.0, std::uint32_t(va)});
+    std::size_t found = 0;
+    std::vector<char> done(m.number_of_vertices(), 0);
+    while (!q.empty()) {
+      auto [d, vi] = q.top();
+      q.pop();
+      WV v(vi);
+      if (done[vi]) continue;
+      done[vi] = 1;
+      if (v != va && vfeature[v] != no_feature) { // a feature ends a path, never lies inside one
+        out[vfeature[v]] = trace_back(va, v);
+        if (++found + 1 == nf) break;
+        continue;
+      }
+      for (WH h : CGAL::halfedges_around_source(v, m)) {
+        if (path_of(h) != no_path) continue;
+        WV w = m.target(h);
+        if (!is_free(w) && vfeature[w] == no_feature) continue;
+        if (w == va) continue;
+        double nd = d + edge_length(h);
+        if (nd < scratch.d(w)) {
+          scratch.set(w, nd, h);
+          q.push({nd, std::uint32_t(w)});
+        }
+      }
+    }
+    return out;
+  }
+
+  /// Shortest edge path from feature a to feature b through free vertices, leaving a inside sector
+  /// `corner_a` and entering b inside sector `corner_b` (pass any_corner for no constraint).
+  static constexpr int any_corner = -2;
+  Halfedge_path shortest_path(int a, int b, int corner_a, int corner_b) const {
+    WV va = feature_vertex[a], vb = feature_vertex[b];
+    scratch.reset(m.number_of_vertices());
+    using QE = std::pair<double, std::uint32_t>;
+    std::priority_queue<QE, std::vector<QE>, std::greater<QE>> q;
+    auto arrival_ok = [&](WH h) { // h: x -> b
+      if (corner_b == any_corner) return true;
+      return corner_of_outgoing(m.opposite(h)) == corner_b;
+    };
+    for (WH h : CGAL::halfedges_around_source(va, m)) {
+      if (path_of(h) != no_path) continue;
+      if (corner_a != any_corner && corner_of_outgoing(h) != corner_a) continue;
+      WV w = m.target(h);
+      double d = edge_length(h);
+      if (w == vb) {
+        if (!arrival_ok(h)) continue;
+      } else if (!is_free(w)) {
+        continue;
+      }
+      if (d < scratch.d(w)) {
+        scratch.set(w, d, h);
+        q.push({d, std::uint32_t(w)});
+      }
+    }
+    while (!q.empty()) {
+      auto [d, vi] = q.top();
+      q.pop();
+      WV v(vi);
+      if (d > scratch.d(v)) continue;
+      if (v == vb) return trace_back(va, vb);
+      for (WH h : CGAL::halfedges_around_source(v, m)) {
+        if (path_of(h) != no_path) continue;
+        WV w = m.target(h);
+        if (w == vb) {
+          if (!arrival_ok(h)) continue;
+        } else if (!is_free(w)) {
+          continue;
+        }
+        double nd = d + edge_length(h);
+        if (nd < scratch.d(w)) {
+          scratch.set(w, nd, h);
+          q.push({nd, std::uint32_t(w)});
+        }
+      }
+    }
+    return {};
+  }
+
+  // ---- flood fills over faces, not crossing path edges ----
+
+  /// Labels every face with its patch (connected set of faces across non-path edges). Returns the count.
+  int label_patches(std::vector<int>& label) const {
+    label.assign(m.number_of_faces(), -1);
+    int n = 0;
+    std::vector<WF> stack;
+    for (WF f0 : m.faces()) {
+      if (label[f0] >= 0) continue;
+      label[f0] = n;
+      stack.push_back(f0);
+      while (!stack.empty()) {
+        WF f = stack.back();
+        stack.pop_back();
+        for (WH h : CGAL::halfedges_around_face(m.halfedge(f), m)) {
+          if (path_of(h) != no_path) continue;
+          WF g = m.face(m.opposite(h));
+          if (label[g] < 0) {
+            label[g] = n;
+            stack.push_back(g);
+          }
+        }
+      }
+      ++n;
+    }
+    return n;
+  }
+
+  /// What lies on the left of a candidate path inside its patch: the ids of paths bounding the faces reached
+  /// (the candidate excluded), the isolated features reached, and whether the right side was reached too
+  /// (then the path does not split its patch). Paper §3, blocking test by fronts from the same side.
+  struct Side_signature {
+    bool splits = false;
+    std::vector<int> paths;    ///< sorted
+    std::vector<int> isolated; ///< sorted
+  };
+  Side_signature left_side_signature(const Halfedge_path& hp, int tmp_id,
+                                     const std::vector<int>& feature_degree) const {
+    auto& self = const_cast<Layout_mesh&>(*this);
+    for (WH h : hp) self.epath[m.edge(h)] = tmp_id;
+    std::vector<char> seen(m.number_of_faces(), 0);
+    std::vector<WF> stack{m.face(hp.front())};
+    seen[m.face(hp.front())] = 1;
+    std::vector<int> ps, iso;
+    while (!stack.empty()) {
+      WF f = stack.back();
+      stack.pop_back();
+      for (WH h : CGAL::halfedges_around_face(m.halfedge(f), m)) {
+        int p = path_of(h);
+        WV v = m.target(h);
+        if (vfeature[v] != no_feature && feature_degree[vfeature[v]] == 0) iso.push_back(vfeature[v]);
+        if (p != no_path) {
+          if (p != tmp_id) ps.push_back(p);
+          continue;
+        }
+        WF g = m.face(m.opposite(h));
+        if (!seen[g]) {
+          seen[g] = 1;
+          stack.push_back(g);
+        }
+      }
+    }
+    Side_signature s;
+    s.splits = !seen[m.face(m.opposite(hp.front()))];
+    for (WH h : hp) self.epath[m.edge(h)] = no_path;
+    std::sort(ps.begin(), ps.end());
+    ps.erase(std::unique(ps.begin(), ps.end()), ps.end());
+    std::sort(iso.begin(), iso.end());
+    iso.erase(std::unique(iso.begin(), iso.end()), iso.end());
+    s.paths = std::move(ps);
+    s.isolated = std::move(iso);
+    return s;
+  }
+
+  // ---- face paths (paper §3.2, Fig. 3) ----
+
+  Point_3 face_centroid(WF f) const {
+    WH h = m.halfedge(f);
+    return CGAL::centroid(m.point(m.source(h)), m.point(m.target(h)), m.point(m.target(m.next(h))));
+  }
+
+  WV split_edge(WV u, WV v) {
+    Point_3 p = CGAL::midpoint(m.point(u), m.point(v));
+    WV w = split_edge_and_triangulate(m, m.points(), u, v, p);
+    splits.push_back({std::size_t(u), std::size_t(v), std::size_t(w), 0.5});
+    return w;
+  }
+
+  /// The edges crossed by a shortest path through the faces of one patch, from sector `corner_a` of
+  /// feature a to sector `corner_b` of feature b, as vertex pairs (stable under splits of other edges).
+  /// Throws Algorithm_error if the sectors do not share a patch.
+  std::vector<std::pair<WV, WV>> face_path_crossings(int a, int b, int corner_a, int corner_b) const {
+    WV va = feature_vertex[a], vb = feature_vertex[b];
+    std::vector<WF> src = sector_faces(va, corner_a);
+    std::vector<WF> dst = sector_faces(vb, corner_b);
+    const std::size_t nfaces = m.number_of_faces();
+    std::vector<double> dist(nfaces, std::numeric_limits<double>::infinity());
+    std::vector<WH> pred(nfaces, WH()); // halfedge crossed to enter the face (in the face entered)
+    std::vector<char> is_dst(nfaces, 0), done(nfaces, 0);
+    for (WF f : dst) is_dst[f] = 1;
+    using QE = std::pair<double, std::uint32_t>;
+    std::priority_queue<QE, std::vector<QE>, std::greater<QE>> q;
+    for (WF f : src) {
+      dist[f] = 0;
+      q.push({0.0, std::uint32_t(f)});
+    }
+    WF reached;
+    bool ok = false;
+    while (!q.empty()) {
+      auto [d, fi] = q.top();
+      q.pop();
+      WF f(fi);
+      if (done[fi]) continue;
+      done[fi] = 1;
+      if (is_dst[fi]) {
+        reached = f;
+        ok = true;
+        break;
+      }
+      Point_3 cf = face_centroid(f);
+      for (WH h : CGAL::halfedges_around_face(m.halfedge(f), m)) {
+        if (path_of(h) != no_path) continue;
+        WH ho = m.opposite(h);
+        WF g = m.face(ho);
+        if (done[g]) continue;
+        // Crossing an edge with no free endpoint costs a split: prefer the faces of free vertices.
+        double w = std::sqrt(CGAL::squared_distance(cf, face_centroid(g)));
+        if (!is_free(m.source(h)) && !is_free(m.target(h))) w *= 2;
+        double nd = d + w + 1e-12;
+        if (nd < dist[g]) {
+          dist[g] = nd;
+          pred[g] = ho;
+          q.push({nd, std::uint32_t(g)});
+        }
+      }
+    }
+    if (!ok) throw Algorithm_error("internal error: no face path between two sectors of one patch");
+    std::vector<std::pair<WV, WV>> crossed;
+    for (WF f = reached; pred[f] != WH(); f = m.face(m.opposite(pred[f])))
+      crossed.push_back({m.source(pred[f]), m.target(pred[f])});
+    std::reverse(crossed.begin(), crossed.end());
+    return crossed;
+  }
+
+  /// Turns a face path into an edge path (paper Fig. 3): each crossed edge is passed through one of its free
+  /// endpoints when there is one, otherwise split at its midpoint. With `dry_run` nothing is changed and only
+  /// the number of splits needed is returned in `split_count`. Returns the vertices of the path.
+  std::vector<WV> walk_face_path(int a, int b, const std::vector<std::pair<WV, WV>>& crossed, bool dry_run,
+                                 std::size_t& split_count) {
+    WV va = feature_vertex[a], vb = feature_vertex[b];
+    std::vector<WV> verts{va};
+    std::vector<char> on_new_path; // by vertex index, grows with splits
+    auto visited = [&](WV v) { return std::size_t(v) < on_new_path.size() && on_new_path[v]; };
+    auto visit = [&](WV v) {
+      if (on_new_path.size() <= std::size_t(v)) on_new_path.resize(std::size_t(v) + 1, 0);
+      on_new_path[v] = 1;
+    };
+    visit(va);
+    split_count = 0;
+    WV c = va;
+    for (std::size_t i = 0; i < crossed.size(); ++i) {
+      auto [p, q2] = crossed[i];
+      if (c == p || c == q2) continue;
+      auto usable = [&](WV x) { return is_free(x) && !visited(x); };
+      WV next_v;
+      bool have = false;
+      // Prefer an endpoint that also bounds the next crossed edge: the path then skips that edge.
+      if (i + 1 < crossed.size()) {
+        for (WV x : {p, q2})
+          if (!have && usable(x) && (x == crossed[i + 1].first || x == crossed[i + 1].second)) {
+            next_v = x;
+            have = true;
+          }
+      }
+      for (WV x : {p, q2})
+        if (!have && usable(x)) {
+          next_v = x;
+          have = true;
+        }
+      if (!have) {
+        ++split_count;
+        if (dry_run) {
+          c = WV(); // a new vertex: never an endpoint of a later crossed edge
+          continue;
+        }
+        next_v = split_edge(p, q2);
+      }
+      visit(next_v);
+      verts.push_back(next_v);
+      c = next_v;
+    }
+    verts.push_back(vb);
+    return verts;
+  }
+
+  std::vector<WV> trace_face_path(int a, int b, int corner_a, int corner_b) {
+    std::size_t n = 0;
+    return walk_face_path(a, b, face_path_crossings(a, b, corner_a, corner_b), false, n);
+  }
+
+  /// Number of edge splits `trace_face_path` would need, without changing anything.
+  std::size_t face_path_split_count(int a, int b, int corner_a, int corner_b) {
+    std::size_t n = 0;
+    walk_face_path(a, b, face_path_crossings(a, b, corner_a, corner_b), true, n);
+    return n;
+  }
+
+  Halfedge_path halfedges_of(const std::vector<WV>& verts) const {
+    Halfedge_path hp;
+    for (std::size_t i = 0; i + 1 < verts.size(); ++i) {
+      auto h = m.halfedge(verts[i], verts[i + 1]);
+      if (h == WH()) throw Algorithm_error("internal error: traced path uses a missing edge");
+      hp.push_back(h);
+    }
+    return hp;
+  }
+};
+
+} // namespace internal
+} // namespace crossparam
+
+#endif // CROSSPARAM_INTERNAL_LAYOUT_MESH_H

@@ -1,0 +1,118 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
+# End-to-end checks of the crossparam CLI: bad input gives one line on stderr, a non-zero exit code and no
+# output; the demo and (when ../shared is present) a bench case write every promised file.
+set -u
+cli=$1
+shared=$2
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fails=0
+passes=0
+ok() { passes=$((passes + 1)); }
+bad() { echo "FAIL: $*"; fails=$((fails + 1)); }
+
+# expect_error NAME EXPECTED_WORDS -- ARGS...: non-zero exit, one stderr line containing the words, no output dir
+expect_error() {
+  local name=$1 words=$2
+  shift 3
+  rm -rf "$work/out"
+  "$cli" "$@" >"$work/stdout" 2>"$work/stderr"
+  local rc=$?
+  local lines
+  lines=$(wc -l <"$work/stderr")
+  if [ $rc -eq 0 ]; then bad "$name: exit code 0"; return; fi
+  if [ "$lines" -ne 1 ]; then bad "$name: $lines stderr lines: $(cat "$work/stderr")"; return; fi
+  if ! grep -qi -- "$words" "$work/stderr"; then bad "$name: message lacks '$words': $(cat "$work/stderr")"; return; fi
+  if [ -e "$work/out" ] && [ -n "$(ls -A "$work/out")" ]; then bad "$name: wrote output"; return; fi
+  ok
+}
+
+# A valid octahedron and a valid tetrahedron-free second mesh.
+cat >"$work/octa.off" <<'OFF'
+OFF
+6 8 0
+1 0 0
+-1 0 0
+0 1 0
+0 -1 0
+0 0 1
+0 0 -1
+3 0 2 4
+3 2 1 4
+3 1 3 4
+3 3 0 4
+3 2 0 5
+3 1 2 5
+3 3 1 5
+3 0 3 5
+OFF
+printf '0 0\n1 1\n2 2\n4 4\n' >"$work/f4.txt"
+printf '0 0\n1 1\n2 2\n' >"$work/f3.txt"
+printf '0 0\n1 1\n2 2\n9 4\n' >"$work/frange.txt"
+printf '0 0\n1 1\nx 2\n4 4\n' >"$work/fbad.txt"
+printf '0 0\n1 1\n1 2\n4 4\n' >"$work/fdup.txt"
+head -c 40 "$work/octa.off" >"$work/truncated.off"
+sed 's/^3 0 2 4$/4 0 2 4 5/' "$work/octa.off" >"$work/quad.off"
+sed '/^3 0 3 5$/d; s/^6 8 0$/6 7 0/' "$work/octa.off" >"$work/open.off"
+sed 's/^1 0 0$/nan 0 0/' "$work/octa.off" >"$work/nan.off"
+sed 's/^3 0 2 4$/3 0 2 44/' "$work/octa.off" >"$work/index.off"
+printf 'OFF\n999999999999 1 0\n0 0 0\n' >"$work/huge.off"
+
+expect_error missing-file "no such\|cannot\|not found\|unreadable" -- layout "$work/none.off" "$work/octa.off" --features "$work/f4.txt" -o "$work/out"
+expect_error truncated "truncated\|end of file\|expected" -- layout "$work/truncated.off" "$work/octa.off" --features "$work/f4.txt" -o "$work/out"
+expect_error non-triangle "triangle" -- layout "$work/quad.off" "$work/octa.off" --features "$work/f4.txt" -o "$work/out"
+expect_error open "open\|boundary\|border" -- layout "$work/open.off" "$work/octa.off" --features "$work/f4.txt" -o "$work/out"
+expect_error nan "finite\|nan" -- layout "$work/nan.off" "$work/octa.off" --features "$work/f4.txt" -o "$work/out"
+expect_error face-index "range" -- layout "$work/index.off" "$work/octa.off" --features "$work/f4.txt" -o "$work/out"
+expect_error huge-count "count\|vertices\|size" -- layout "$work/huge.off" "$work/octa.off" --features "$work/f4.txt" -o "$work/out"
+expect_error few-features "4" -- layout "$work/octa.off" "$work/octa.off" --features "$work/f3.txt" -o "$work/out"
+expect_error feature-range "range" -- layout "$work/octa.off" "$work/octa.off" --features "$work/frange.txt" -o "$work/out"
+expect_error feature-malformed "line 3" -- layout "$work/octa.off" "$work/octa.off" --features "$work/fbad.txt" -o "$work/out"
+expect_error feature-duplicate "twice\|same\|duplicate\|already" -- layout "$work/octa.off" "$work/octa.off" --features "$work/fdup.txt" -o "$work/out"
+expect_error usage "usage\|needs\|help" -- layout "$work/octa.off"
+expect_error unknown-command "unknown" -- frobnicate
+if [ -d "$shared/data/nasty" ]; then
+  expect_error nasty-cubes "non-manifold" -- layout "$shared/data/nasty/cgal/cubes.off" "$work/octa.off" --features "$work/f4.txt" -o "$work/out"
+  expect_error nasty-crasher "" -- layout "$shared/data/nasty/cgal-io-crashers/ply_binary_huge_alloc.ply" "$work/octa.off" --features "$work/f4.txt" -o "$work/out"
+  expect_error genus "genus" -- layout "$shared/data/models/cgal/knot.off" "$work/octa.off" --features "$work/f4.txt" -o "$work/out"
+fi
+
+# A valid run: octahedron to itself with 4 features.
+if "$cli" layout "$work/octa.off" "$work/octa.off" --features "$work/f4.txt" -o "$work/ok" --quiet; then
+  for f in source_refined.off target_refined.off source_patches.txt target_patches.txt base_mesh.txt \
+           source_patches.ply target_patches.ply report.json; do
+    [ -s "$work/ok/$f" ] || bad "layout: missing $f"
+  done
+  [ "$(grep -vc '^#' "$work/ok/base_mesh.txt")" -eq 4 ] || bad "layout: octahedron with 4 features should have 4 base triangles"
+  ok
+else
+  bad "layout on a valid octahedron failed"
+fi
+
+# The demo.
+if "$cli" demo -o "$work/demo" --quiet; then
+  for f in source.off target.off features.txt source_patches.txt report.json; do
+    [ -s "$work/demo/$f" ] || bad "demo: missing $f"
+  done
+  ok
+else
+  bad "demo failed"
+fi
+
+# A real bench case.
+if [ -d "$shared/bench/wolf0_wolf2" ]; then
+  b="$shared/bench/wolf0_wolf2"
+  if "$cli" layout "$b/source.off" "$b/target.off" --features "$b/features.txt" -o "$work/wolf" --quiet; then
+    nfaces=$(sed -n 2p "$work/wolf/source_refined.off" | awk '{print $2}')
+    [ "$(wc -l <"$work/wolf/source_patches.txt")" -eq "$nfaces" ] || bad "wolf: one patch id per refined face"
+    ok
+  else
+    bad "layout on wolf0_wolf2 failed"
+  fi
+else
+  echo "shared data not found at $shared: skipping the bench case"
+fi
+
+echo "cli: $passes passed, $fails failed"
+[ $fails -eq 0 ]
