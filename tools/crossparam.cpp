@@ -8,6 +8,7 @@
 // Outputs are computed completely before anything is written, and each file is written atomically.
 #include <crossparam/io.h>
 #include <crossparam/patch_layout.h>
+#include <crossparam/render.h>
 #include <crossparam/shapes.h>
 
 #include <chrono>
@@ -38,6 +39,7 @@ const char* const usage_text =
     "                    0-based indices in file order, '#' starts a comment\n"
     "  -o, --output DIR  output directory (created if missing)\n"
     "  --no-flips        skip the path flips of section 3.3\n"
+    "  --png             also render pictures of the results (needs POV-Ray: apt-get install povray)\n"
     "  --quiet           print nothing but errors\n"
     "  -h, --help        this text\n"
     "\n"
@@ -54,6 +56,7 @@ struct Options {
   std::string output;
   bool flips = true;
   bool quiet = false;
+  bool png = false;
 };
 
 Options parse(int argc, char** argv) {
@@ -69,6 +72,7 @@ Options parse(int argc, char** argv) {
     if (a == "--features") o.features = value();
     else if (a == "-o" || a == "--output") o.output = value();
     else if (a == "--no-flips") o.flips = false;
+    else if (a == "--png") o.png = true;
     else if (a == "--quiet" || a == "-q") o.quiet = true;
     else if (a == "-h" || a == "--help") throw Usage_error("");
     else if (!a.empty() && a[0] == '-') throw Usage_error("unknown option " + a);
@@ -150,6 +154,10 @@ void write_layout(const Options& o, const Surface_mesh& s, const Surface_mesh& t
     std::vector<std::array<unsigned char, 3>> colors;
     for (int id : layouts[k]->face_triangle) colors.push_back(color_of(std::size_t(id)));
     write_ply_colored(out(std::string(names[k]) + "_patches.ply"), pts, tris, colors);
+    if (o.png) {
+      Render_mesh rm{pts, tris, colors, {}};
+      render_png(rm, out(std::string(names[k]) + "_patches.png"));
+    }
   }
   write_file_atomically(out("base_mesh.txt"), [&](std::ostream& os) {
     os << "# base triangles: three feature indices each, counter-clockwise seen from outside\n";

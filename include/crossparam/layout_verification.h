@@ -131,7 +131,21 @@ bool verify_mesh_layout(const TriangleMesh& tm, const Patch_layout& L, const Mes
     }
   }
 
-  // 3. Labels across edges.
+  // 3. Labels across edges. Base triangles are counter-clockwise seen from outside; a mesh oriented inward
+  // (negative signed volume) sees every patch from the other side.
+  double volume = 0;
+  {
+    auto vpm = get(CGAL::vertex_point, tm);
+    for (auto f : faces(tm)) {
+      auto h = halfedge(f, tm);
+      const auto &a = get(vpm, source(h, tm)), &b = get(vpm, target(h, tm)), &c = get(vpm, target(next(h, tm), tm));
+      double ax = CGAL::to_double(a.x()), ay = CGAL::to_double(a.y()), az = CGAL::to_double(a.z());
+      double bx = CGAL::to_double(b.x()) - ax, by = CGAL::to_double(b.y()) - ay, bz = CGAL::to_double(b.z()) - az;
+      double cx = CGAL::to_double(c.x()) - ax, cy = CGAL::to_double(c.y()) - ay, cz = CGAL::to_double(c.z()) - az;
+      volume += ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx);
+    }
+  }
+  const bool inward = volume < 0;
   for (auto h : halfedges(tm)) {
     if (is_border(h, tm) || is_border(opposite(h, tm), tm)) return fail("mesh is not closed");
     int tl = M.face_triangle[fid[face(h, tm)]];
@@ -143,7 +157,7 @@ bool verify_mesh_layout(const TriangleMesh& tm, const Patch_layout& L, const Mes
     }
     auto [p, dir] = it->second;
     std::size_t a = L.base_edges[p][0], b = L.base_edges[p][1];
-    if (dir < 0) std::swap(a, b);
+    if ((dir < 0) != inward) std::swap(a, b);
     auto expected = tri_of.find({a, b});
     if (expected == tri_of.end() || expected->second != tl)
       return fail("the face left of path " + std::to_string(p) + " is not in the base triangle of that side");

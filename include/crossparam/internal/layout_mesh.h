@@ -52,7 +52,7 @@ split_edge_and_triangulate(TriangleMesh& tm, VertexPointMap vpm,
                            typename boost::graph_traits<TriangleMesh>::vertex_descriptor u,
                            typename boost::graph_traits<TriangleMesh>::vertex_descriptor v, const Point& p) {
   auto hf = halfedge(u, v, tm);
-  if (!hf.second) throw Algorithm_error("internal error: split of an edge that does not exist " + std::to_string(std::size_t(u)) + " " + std::to_string(std::size_t(v)));
+  if (!hf.second) throw Algorithm_error("internal error: split of an edge that does not exist");
   auto h = hf.first;                              // u -> v
   auto hnew = CGAL::Euler::split_edge(h, tm);     // u -> w, followed by h: w -> v
   auto w = target(hnew, tm);
