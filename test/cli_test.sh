@@ -28,8 +28,8 @@ expect_error() {
   ok
 }
 
-# A valid octahedron and a valid tetrahedron-free second mesh.
-cat >"$work/octa.off" <<'OFF'
+# A valid octahedron.
+cat >"$work/octa.off" <<'EOM'
 OFF
 6 8 0
 1 0 0
@@ -46,7 +46,7 @@ OFF
 3 1 2 5
 3 3 1 5
 3 0 3 5
-OFF
+EOM
 printf '0 0\n1 1\n2 2\n4 4\n' >"$work/f4.txt"
 printf '0 0\n1 1\n2 2\n' >"$work/f3.txt"
 printf '0 0\n1 1\n2 2\n9 4\n' >"$work/frange.txt"
@@ -59,13 +59,17 @@ sed 's/^1 0 0$/nan 0 0/' "$work/octa.off" >"$work/nan.off"
 sed 's/^3 0 2 4$/3 0 2 44/' "$work/octa.off" >"$work/index.off"
 printf 'OFF\n999999999999 1 0\n0 0 0\n' >"$work/huge.off"
 
-expect_error missing-file "no such\|cannot\|not found\|unreadable" -- layout "$work/none.off" "$work/octa.off" --features "$work/f4.txt" -o "$work/out"
+expect_error missing-file "does not exist\|no such\|cannot" -- layout "$work/none.off" "$work/octa.off" --features "$work/f4.txt" -o "$work/out"
 expect_error truncated "truncated\|end of file\|expected" -- layout "$work/truncated.off" "$work/octa.off" --features "$work/f4.txt" -o "$work/out"
 expect_error non-triangle "triangle" -- layout "$work/quad.off" "$work/octa.off" --features "$work/f4.txt" -o "$work/out"
 expect_error open "open\|boundary\|border" -- layout "$work/open.off" "$work/octa.off" --features "$work/f4.txt" -o "$work/out"
 expect_error nan "finite\|nan" -- layout "$work/nan.off" "$work/octa.off" --features "$work/f4.txt" -o "$work/out"
 expect_error face-index "range" -- layout "$work/index.off" "$work/octa.off" --features "$work/f4.txt" -o "$work/out"
 expect_error huge-count "count\|vertices\|size" -- layout "$work/huge.off" "$work/octa.off" --features "$work/f4.txt" -o "$work/out"
+awk 'NR>=3 && NR<=8 {printf "%.17g %.17g %.17g\n", $1*1e150, $2*1e150, $3*1e150; next} {print}' "$work/octa.off" >"$work/huge_scale.off"
+awk 'NR>=3 && NR<=8 {printf "%.17g %.17g %.17g\n", $1*1e-150, $2*1e-150, $3*1e-150; next} {print}' "$work/octa.off" >"$work/tiny_scale.off"
+expect_error huge-scale "range" -- layout "$work/huge_scale.off" "$work/octa.off" --features "$work/f4.txt" -o "$work/out"
+if "$cli" layout "$work/tiny_scale.off" "$work/octa.off" --features "$work/f4.txt" -o "$work/tiny" --quiet; then ok; else bad "coordinates at 1e-150 should work"; fi
 expect_error few-features "4" -- layout "$work/octa.off" "$work/octa.off" --features "$work/f3.txt" -o "$work/out"
 expect_error feature-range "range" -- layout "$work/octa.off" "$work/octa.off" --features "$work/frange.txt" -o "$work/out"
 expect_error feature-malformed "line 3" -- layout "$work/octa.off" "$work/octa.off" --features "$work/fbad.txt" -o "$work/out"

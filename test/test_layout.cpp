@@ -137,7 +137,7 @@ TEST(Layout, PolyhedronAndPropertyMaps) {
 
 // Orientation and scale do not matter: an inward-oriented target and tiny or huge coordinates.
 TEST(Layout, InwardOrientationAndExtremeScales) {
-  for (double scale : {1.0, 1e-90, 1e90}) {
+  for (double scale : {1.0, 1e-150, 1e-90, 1e90}) {
     Surface_mesh a = shapes::make_deformed_sphere(11, 700, true), b = shapes::make_deformed_sphere(12, 900, true);
     for (auto v : b.vertices()) b.point(v) = Point_3(b.point(v).x() * scale, b.point(v).y() * scale, b.point(v).z() * scale);
     CGAL::Polygon_mesh_processing::reverse_face_orientations(b);

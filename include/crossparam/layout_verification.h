@@ -16,6 +16,8 @@
 
 #include <crossparam/patch_layout.h>
 
+#include <algorithm>
+#include <cmath>
 #include <map>
 #include <set>
 #include <sstream>
@@ -135,14 +137,29 @@ bool verify_mesh_layout(const TriangleMesh& tm, const Patch_layout& L, const Mes
   // (negative signed volume) sees every patch from the other side.
   double volume = 0;
   {
+    // Signed volume in coordinates scaled to the bounding box: meaningful at any input scale.
     auto vpm = get(CGAL::vertex_point, tm);
+    double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    for (auto v : vertices(tm)) {
+      const auto& p = get(vpm, v);
+      double c[3] = {CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())};
+      for (int i = 0; i < 3; ++i) lo[i] = std::min(lo[i], c[i]), hi[i] = std::max(hi[i], c[i]);
+    }
+    double scale = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+    if (!(scale > 0)) scale = 1;
+    auto P = [&](auto v, double out[3]) {
+      const auto& p = get(vpm, v);
+      out[0] = (CGAL::to_double(p.x()) - lo[0]) / scale;
+      out[1] = (CGAL::to_double(p.y()) - lo[1]) / scale;
+      out[2] = (CGAL::to_double(p.z()) - lo[2]) / scale;
+    };
     for (auto f : faces(tm)) {
       auto h = halfedge(f, tm);
-      const auto &a = get(vpm, source(h, tm)), &b = get(vpm, target(h, tm)), &c = get(vpm, target(next(h, tm), tm));
-      double ax = CGAL::to_double(a.x()), ay = CGAL::to_double(a.y()), az = CGAL::to_double(a.z());
-      double bx = CGAL::to_double(b.x()) - ax, by = CGAL::to_double(b.y()) - ay, bz = CGAL::to_double(b.z()) - az;
-      double cx = CGAL::to_double(c.x()) - ax, cy = CGAL::to_double(c.y()) - ay, cz = CGAL::to_double(c.z()) - az;
-      volume += ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx);
+      double a[3], b[3], c[3];
+      P(source(h, tm), a);
+      P(target(h, tm), b);
+      P(target(next(h, tm), tm), c);
+      volume += a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
     }
   }
   const bool inward = volume < 0;
