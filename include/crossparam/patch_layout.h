@@ -62,9 +62,9 @@ void make_work_mesh(const TriangleMesh& tm, VertexPointMap vpm, Layout_mesh& out
     points.emplace_back(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
   }
   std::vector<std::array<std::size_t, 3>> tris;
-  for (auto f : faces(tm)) {
+  for (auto f : faces(tm)) { // corners in vertices_around_face order: the file order for meshes we read
     auto h = halfedge(f, tm);
-    tris.push_back({index[source(h, tm)], index[target(h, tm)], index[target(next(h, tm), tm)]});
+    tris.push_back({index[target(h, tm)], index[target(next(h, tm), tm)], index[source(h, tm)]});
   }
   CGAL::Polygon_mesh_processing::polygon_soup_to_polygon_mesh(points, tris, out.m);
   if (out.m.number_of_vertices() != points.size() || out.m.number_of_faces() != tris.size())
@@ -95,7 +95,16 @@ void make_work_mesh(const TriangleMesh& tm, VertexPointMap vpm, Layout_mesh& out
     vol += CGAL::scalar_product(a - CGAL::ORIGIN, CGAL::cross_product(b - CGAL::ORIGIN, c - CGAL::ORIGIN));
   }
   if (vol < 0) CGAL::Polygon_mesh_processing::reverse_face_orientations(out.m);
-  out.init();
+  for (std::size_t f = 0; f < tris.size(); ++f) { // the soup builder keeps the face order: check it
+    std::array<std::size_t, 3> got;
+    int i = 0;
+    for (WV v : CGAL::vertices_around_face(out.m.halfedge(WF(WF::size_type(f))), out.m)) got[i++] = std::size_t(v);
+    std::array<std::size_t, 3> a = got, b = tris[f];
+    std::sort(a.begin(), a.end());
+    std::sort(b.begin(), b.end());
+    if (a != b) throw Algorithm_error("internal error: mesh copy did not keep the face order");
+  }
+  out.init(tris);
 }
 
 template <class TriangleMesh>
@@ -133,10 +142,17 @@ replay_splits(TriangleMesh& tm, VertexPointMap vpm, const Layout_mesh& L,
   return fmap;
 }
 
+/// Links between a working mesh and the user's refined mesh.
+template <class TriangleMesh>
+struct Mesh_link {
+  std::vector<typename boost::graph_traits<TriangleMesh>::vertex_descriptor> vertex; ///< work vertex -> user vertex
+  std::vector<typename boost::graph_traits<TriangleMesh>::face_descriptor> face;     ///< work face -> user face
+};
+
 template <class TriangleMesh, class NamedParameters>
 void write_layout_outputs(TriangleMesh& tm, const NamedParameters& np, const Layout_mesh& L,
                           const std::vector<int>& work_face_triangle, const std::vector<int>& path_id_remap,
-                          Mesh_layout& out) {
+                          Mesh_layout& out, Mesh_link<TriangleMesh>* link = nullptr) {
   using CGAL::parameters::choose_parameter;
   using CGAL::parameters::get_parameter;
   using CGAL::parameters::is_default_parameter;
@@ -164,6 +180,10 @@ void write_layout_outputs(TriangleMesh& tm, const NamedParameters& np, const Lay
   }
   out.feature_vertices.clear();
   for (WV v : L.feature_vertex) out.feature_vertices.push_back(std::size_t(v));
+  if (link) {
+    link->vertex = desc;
+    link->face = fmap;
+  }
 
   // Property maps requested by the caller.
   auto fpm = get_parameter(np, CGAL::internal_np::face_patch);
@@ -220,11 +240,16 @@ Patch_layout compute_patch_layouts(SourceMesh& tm_s, TargetMesh& tm_t, const Fea
 
 namespace crossparam {
 
+namespace internal {
 template <class SourceMesh, class TargetMesh, typename NP_T1, typename NP_Tag1, typename NP_Base1,
           typename NP_T2, typename NP_Tag2, typename NP_Base2>
-Patch_layout compute_patch_layouts(SourceMesh& tm_s, TargetMesh& tm_t, const Feature_correspondence& features,
-                                   const CGAL::Named_function_parameters<NP_T1, NP_Tag1, NP_Base1>& np_source,
-                                   const CGAL::Named_function_parameters<NP_T2, NP_Tag2, NP_Base2>& np_target) {
+Patch_layout compute_patch_layouts_impl(SourceMesh& tm_s, TargetMesh& tm_t, const Feature_correspondence& features,
+                                        const CGAL::Named_function_parameters<NP_T1, NP_Tag1, NP_Base1>& np_source,
+                                        const CGAL::Named_function_parameters<NP_T2, NP_Tag2, NP_Base2>& np_target,
+                                        Layout_builder& B, bool adjacency_splits,
+                                        std::array<std::vector<int>, 2>* work_tri_out = nullptr,
+                                        Mesh_link<SourceMesh>* link_s = nullptr,
+                                        Mesh_link<TargetMesh>* link_t = nullptr) {
   using CGAL::parameters::choose_parameter;
   using CGAL::parameters::get_parameter;
   auto vpm_s = choose_parameter(get_parameter(np_source, CGAL::internal_np::vertex_point),
@@ -246,18 +271,23 @@ Patch_layout compute_patch_layouts(SourceMesh& tm_s, TargetMesh& tm_t, const Fea
   const std::size_t nt = std::size_t(std::distance(vertices(tm_t).begin(), vertices(tm_t).end()));
   validate_feature_pairs(features, ns, nt, "feature correspondence");
 
-  internal::Layout_builder B;
   B.do_flips = flips;
-  internal::make_work_mesh(tm_s, vpm_s, B.side[0]);
-  internal::make_work_mesh(tm_t, vpm_t, B.side[1]);
+  make_work_mesh(tm_s, vpm_s, B.side[0]);
+  make_work_mesh(tm_t, vpm_t, B.side[1]);
   for (std::size_t k = 0; k < features.size(); ++k) {
-    internal::WV vs(internal::WV::size_type(features[k].source)), vt(internal::WV::size_type(features[k].target));
+    WV vs(WV::size_type(features[k].source)), vt(WV::size_type(features[k].target));
     B.side[0].feature_vertex.push_back(vs);
     B.side[1].feature_vertex.push_back(vt);
     B.side[0].vfeature[vs] = int(k);
     B.side[1].vfeature[vt] = int(k);
   }
   B.run();
+  if (adjacency_splits) {
+    B.stats.adjacency_splits_source = B.split_for_adjacency(0);
+    B.stats.adjacency_splits_target = B.split_for_adjacency(1);
+    B.stats.splits_source = B.side[0].splits.size();
+    B.stats.splits_target = B.side[1].splits.size();
+  }
 
   // Base mesh: the loops of the final layout, all triangles. Ids in a canonical order.
   Patch_layout out;
@@ -299,12 +329,24 @@ Patch_layout compute_patch_layouts(SourceMesh& tm_s, TargetMesh& tm_t, const Fea
     for (std::size_t f = 0; f < label.size(); ++f) work_tri[s][f] = tri_of_patch[label[f]];
   }
   out.statistics = B.stats;
-  internal::write_layout_outputs(tm_s, np_source, B.side[0], work_tri[0], remap, out.source);
-  internal::write_layout_outputs(tm_t, np_target, B.side[1], work_tri[1], remap, out.target);
+  write_layout_outputs(tm_s, np_source, B.side[0], work_tri[0], remap, out.source, link_s);
+  write_layout_outputs(tm_t, np_target, B.side[1], work_tri[1], remap, out.target, link_t);
+  if (work_tri_out) *work_tri_out = work_tri;
 
   Layout_verification check = verify_patch_layouts(tm_s, tm_t, out);
   if (!check.valid) throw Algorithm_error("patch layout failed verification: " + check.message);
   return out;
+}
+
+} // namespace internal
+
+template <class SourceMesh, class TargetMesh, typename NP_T1, typename NP_Tag1, typename NP_Base1,
+          typename NP_T2, typename NP_Tag2, typename NP_Base2>
+Patch_layout compute_patch_layouts(SourceMesh& tm_s, TargetMesh& tm_t, const Feature_correspondence& features,
+                                   const CGAL::Named_function_parameters<NP_T1, NP_Tag1, NP_Base1>& np_source,
+                                   const CGAL::Named_function_parameters<NP_T2, NP_Tag2, NP_Base2>& np_target) {
+  internal::Layout_builder B;
+  return internal::compute_patch_layouts_impl(tm_s, tm_t, features, np_source, np_target, B, false);
 }
 
 } // namespace crossparam

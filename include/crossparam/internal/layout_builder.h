@@ -35,6 +35,8 @@ struct Layout_statistics {
   std::size_t splits_source = 0;          ///< edge splits on the source
   std::size_t splits_target = 0;          ///< edge splits on the target
   std::size_t flips = 0;                  ///< path flips (§3.3)
+  std::size_t adjacency_splits_source = 0; ///< splits of §4.2 (edges joining two boundary vertices of a patch)
+  std::size_t adjacency_splits_target = 0;
   std::size_t rejected_blocking = 0;      ///< candidate pairs dropped by the blocking test
   std::size_t sector_recomputations = 0;  ///< paths recomputed inside the matching sector (Update, rule 3)
   std::size_t path_recomputations = 0;    ///< paths recomputed after their vertices were taken (Update, 1-2)
@@ -453,6 +455,22 @@ public:
         changed = true;
       }
     }
+  }
+
+  /// Paper §4.2, adjacency constraint: splits every edge inside a patch whose two ends lie on the patch
+  /// boundary (on paths or at features). Afterwards no triangle has all its corners on one base edge, and every
+  /// edge joins vertices of one patch or of two adjacent ones. Returns the number of splits.
+  std::size_t split_for_adjacency(int s) {
+    Layout_mesh& L = side[s];
+    auto on_boundary = [&](WV v) { return L.vfeature[v] != no_feature || L.vpath[v] != no_path; };
+    std::vector<std::pair<WV, WV>> todo;
+    for (WE e : L.m.edges()) {
+      if (L.epath[e] != no_path) continue;
+      WH h = L.m.halfedge(e);
+      if (on_boundary(L.m.source(h)) && on_boundary(L.m.target(h))) todo.push_back({L.m.source(h), L.m.target(h)});
+    }
+    for (auto [u, v] : todo) L.split_edge(u, v);
+    return todo.size();
   }
 
   Combinatorics combinatorics_rotations_only() const {

@@ -80,12 +80,52 @@ public:
   std::vector<Edge_split> splits;            ///< splits in the order performed
   std::vector<Halfedge_path> paths;          ///< per path id (empty once a path is removed)
   std::size_t n_original_vertices = 0;
+  std::size_t n_original_faces = 0;
+  /// Original face of every face: faces keep their index, split faces inherit it.
+  Work_mesh::Property_map<WF, int> forig;
+  /// Corners of each original face in the user's order (file order), as vertex indices.
+  std::vector<std::array<std::size_t, 3>> orig_tri;
+  /// Every vertex as a point of the original mesh: original face and barycentrics w.r.t. orig_tri.
+  std::vector<std::pair<int, std::array<double, 3>>> vrep;
 
-  void init() {
+  /// `tris`: the original faces in user order (face k = work face k).
+  void init(const std::vector<std::array<std::size_t, 3>>& tris) {
     vfeature = m.add_property_map<WV, int>("v:cp_feature", no_feature).first;
     vpath = m.add_property_map<WV, int>("v:cp_path", no_path).first;
     epath = m.add_property_map<WE, int>("e:cp_path", no_path).first;
+    forig = m.add_property_map<WF, int>("f:cp_orig", -1).first;
     n_original_vertices = m.number_of_vertices();
+    n_original_faces = m.number_of_faces();
+    orig_tri = tris;
+    vrep.assign(n_original_vertices, {-1, {0, 0, 0}});
+    for (std::size_t f = 0; f < tris.size(); ++f) {
+      forig[WF(WF::size_type(f))] = int(f);
+      for (int i = 0; i < 3; ++i)
+        if (vrep[tris[f][i]].first < 0) {
+          vrep[tris[f][i]].first = int(f);
+          vrep[tris[f][i]].second[i] = 1.0;
+        }
+    }
+  }
+
+  /// Vertex v expressed in original face o (barycentrics w.r.t. orig_tri[o]), if it lies on that face.
+  bool rep_in(WV v, int o, std::array<double, 3>& out) const {
+    const auto& r = vrep[v];
+    if (r.first == o) {
+      out = r.second;
+      return true;
+    }
+    out = {0, 0, 0};
+    for (int j = 0; j < 3; ++j) {
+      if (r.second[j] == 0) continue;
+      std::size_t corner = orig_tri[r.first][j];
+      int k = -1;
+      for (int i = 0; i < 3; ++i)
+        if (orig_tri[o][i] == corner) k = i;
+      if (k < 0) return false;
+      out[k] = r.second[j];
+    }
+    return true;
   }
 
   // ---- navigation around a vertex (outward orientation: counter-clockwise seen from outside) ----
@@ -388,8 +428,27 @@ public:
 
   WV split_edge(WV u, WV v) {
     Point_3 p = CGAL::midpoint(m.point(u), m.point(v));
+    WH h = m.halfedge(u, v);
+    const int oa = forig[m.face(h)], ob = forig[m.face(m.opposite(h))];
+    const WV xa = m.target(m.next(h)), xb = m.target(m.next(m.opposite(h)));
+    // The new vertex as a point of the original mesh: the midpoint, in an original face holding both ends.
+    std::array<double, 3> ru, rv;
+    int o = oa;
+    if (!(rep_in(u, o, ru) && rep_in(v, o, rv))) {
+      o = ob;
+      if (!(rep_in(u, o, ru) && rep_in(v, o, rv)))
+        throw Algorithm_error("internal error: split edge lies in no original face");
+    }
     WV w = split_edge_and_triangulate(m, m.points(), u, v, p);
     splits.push_back({std::size_t(u), std::size_t(v), std::size_t(w), 0.5});
+    if (vrep.size() <= std::size_t(w)) vrep.resize(std::size_t(w) + 1);
+    vrep[w] = {o, {0.5 * (ru[0] + rv[0]), 0.5 * (ru[1] + rv[1]), 0.5 * (ru[2] + rv[2])}};
+    for (WF f : CGAL::faces_around_target(m.halfedge(w), m)) {
+      bool has_a = false;
+      for (WV x : CGAL::vertices_around_face(m.halfedge(f), m)) has_a |= (x == xa);
+      forig[f] = has_a ? oa : ob;
+    }
+    (void)xb;
     return w;
   }
 

@@ -1,0 +1,387 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Cross-parameterization (Kraevoy & Sheffer 2004, §4): the bijective map F = Ft^-1 . Fst . Fs between a source
+// and a target mesh over their common base mesh, made low-distortion by local smoothing, certified one-to-one.
+#ifndef CROSSPARAM_CROSS_PARAMETERIZATION_H
+#define CROSSPARAM_CROSS_PARAMETERIZATION_H
+
+#include <crossparam/metrics.h>
+#include <crossparam/patch_layout.h>
+#include <crossparam/smoothing.h>
+#include <crossparam/internal/base_locator.h>
+
+#include <CGAL/Polygon_mesh_processing/locate.h>
+
+#include <chrono>
+
+namespace crossparam {
+
+namespace internal_np {
+struct smoothing_weights_t {};   ///< a model of SmoothingWeights (default Mean_value_weights)
+struct smoothing_tolerance_t {}; ///< double, base-edge units (default 1e-4)
+struct apply_smoothing_t {};     ///< bool (default true)
+} // namespace internal_np
+
+namespace parameters {
+/// \brief The weights policy of the §4.2 smoothing, a model of `SmoothingWeights`; default `Mean_value_weights`.
+template <typename T, typename NP = CGAL::parameters::Default_named_parameters>
+CGAL::Named_function_parameters<T, internal_np::smoothing_weights_t, NP>
+smoothing_weights(const T& w, const NP& np = CGAL::parameters::default_values()) {
+  return CGAL::Named_function_parameters<T, internal_np::smoothing_weights_t, NP>(w, np);
+}
+/// \brief Smoothing stops when no vertex moves farther than this (in base-triangle edge units); default 1e-4.
+template <typename NP = CGAL::parameters::Default_named_parameters>
+CGAL::Named_function_parameters<double, internal_np::smoothing_tolerance_t, NP>
+smoothing_tolerance(double t, const NP& np = CGAL::parameters::default_values()) {
+  return CGAL::Named_function_parameters<double, internal_np::smoothing_tolerance_t, NP>(t, np);
+}
+/// \brief Whether to smooth the parameterizations (§4.2); default true.
+template <typename NP = CGAL::parameters::Default_named_parameters>
+CGAL::Named_function_parameters<bool, internal_np::apply_smoothing_t, NP>
+apply_smoothing(bool b, const NP& np = CGAL::parameters::default_values()) {
+  return CGAL::Named_function_parameters<bool, internal_np::apply_smoothing_t, NP>(b, np);
+}
+} // namespace parameters
+
+/// Counts, figures and timings of one cross-parameterization.
+struct Cross_parameterization_statistics {
+  Layout_statistics layout;
+  Smoothing_report smoothing_source, smoothing_target;
+  Distortion distortion_initial;  ///< of F right after the mean-value parameterization (§4.1)
+  Distortion distortion;          ///< of the final F
+  bool uniform_fallback_source = false; ///< the mean-value system was replaced by uniform weights
+  bool uniform_fallback_target = false;
+  double seconds_parameterization = 0; ///< §4.1, both meshes
+  double seconds_smoothing = 0;        ///< §4.2, both meshes
+  double seconds_certificate = 0;
+  double seconds_total = 0;            ///< layout included
+};
+
+/// A point of an input mesh reported against the mesh as the user gave it: face index in input order and
+/// barycentric coordinates with respect to that face's vertices in input order.
+struct Input_location {
+  std::size_t face = 0;
+  std::array<double, 3> b{{0, 0, 0}};
+};
+
+/// \brief The cross-parameterization between a source and a target mesh (paper §3-4), kept for queries.
+///
+/// Construction computes the patch layouts (§3), splits edges for the adjacency constraint (§4.2), maps each
+/// patch onto its base triangle by mean-value parameterization (§4.1), smooths both parameterizations (§4.2),
+/// and proves both one-to-one (`certificate`); a failure throws `Algorithm_error`, never a silent result.
+/// Both meshes are refined in place (new vertices appended); queries take and return
+/// `CGAL::Polygon_mesh_processing::Face_location`s on the refined meshes, or `Input_location`s against the input.
+///
+/// \tparam SourceMesh, TargetMesh models of `MutableFaceGraph` (e.g. `CGAL::Surface_mesh`, `CGAL::Polyhedron_3`).
+/// Named parameters (source pack; those of `compute_patch_layouts` apply too):
+///   - `CGAL::parameters::number_of_iterations` (unsigned, default 200): smoothing passes at most;
+///   - `crossparam::parameters::smoothing_tolerance` (double, default 1e-4 base-edge units);
+///   - `crossparam::parameters::smoothing_weights` (a `SmoothingWeights` model, default `Mean_value_weights`);
+///   - `crossparam::parameters::apply_smoothing` (bool, default true).
+template <class SourceMesh, class TargetMesh>
+class Cross_parameterization {
+public:
+  using Source_location = CGAL::Polygon_mesh_processing::Face_location<SourceMesh, double>;
+  using Target_location = CGAL::Polygon_mesh_processing::Face_location<TargetMesh, double>;
+
+  template <typename NP_T1 = bool, typename NP_Tag1 = CGAL::internal_np::all_default_t,
+            typename NP_Base1 = CGAL::internal_np::No_property, typename NP_T2 = bool,
+            typename NP_Tag2 = CGAL::internal_np::all_default_t, typename NP_Base2 = CGAL::internal_np::No_property>
+  Cross_parameterization(SourceMesh& tm_s, TargetMesh& tm_t, const Feature_correspondence& features,
+                         const CGAL::Named_function_parameters<NP_T1, NP_Tag1, NP_Base1>& np_source =
+                             CGAL::parameters::default_values(),
+                         const CGAL::Named_function_parameters<NP_T2, NP_Tag2, NP_Base2>& np_target =
+                             CGAL::parameters::default_values())
+      : tm_s_(tm_s), tm_t_(tm_t) {
+    using CGAL::parameters::choose_parameter;
+    using CGAL::parameters::get_parameter;
+    using clock = std::chrono::steady_clock;
+    auto sec = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
+    const auto t0 = clock::now();
+    std::array<std::vector<int>, 2> work_tri;
+    layout_ = internal::compute_patch_layouts_impl(tm_s, tm_t, features, np_source, np_target, B_, true, &work_tri,
+                                                   &link_s_, &link_t_);
+    stats_.layout = layout_.statistics;
+    {
+      auto lengths = base_edge_lengths();
+      base_.build(layout_.base_triangles, features.size(),
+                  [&](int a, int b) { return lengths.at({std::min(a, b), std::max(a, b)}); });
+    }
+    const auto t1 = clock::now();
+
+    // §4.1: mean-value parameterization of every patch onto its base triangle.
+    bool* fallback[2] = {&stats_.uniform_fallback_source, &stats_.uniform_fallback_target};
+    for (int k = 0; k < 2; ++k) {
+      P_[k].base = &base_;
+      P_[k].mesh = &B_.side[k];
+      P_[k].initialize(work_tri[k], B_.path_ends, false);
+      if (!P_[k].certify().valid) { // numerically too skewed weights: Tutte's uniform weights are safe
+        *fallback[k] = true;
+        P_[k].initialize(work_tri[k], B_.path_ends, true);
+        Bijectivity_certificate c = P_[k].certify();
+        if (!c.valid)
+          throw Algorithm_error(std::string(k ? "target" : "source") +
+                                " mean-value parameterization is not one-to-one: " + c.message);
+      }
+    }
+    const auto t2 = clock::now();
+    locator_[1].build(P_[1]);
+    stats_.distortion_initial = measure_distortion();
+
+    // §4.2: local smoothing with the weights policy.
+    Smoothing_options so;
+    so.max_iterations = choose_parameter(get_parameter(np_source, CGAL::internal_np::number_of_iterations), 200u);
+    so.tolerance = choose_parameter(get_parameter(np_source, internal_np::smoothing_tolerance_t()), 1e-4);
+    const bool smooth = choose_parameter(get_parameter(np_source, internal_np::apply_smoothing_t()), true);
+    const auto t3 = clock::now();
+    if (smooth) {
+      auto weights = choose_parameter(get_parameter(np_source, internal_np::smoothing_weights_t()), Mean_value_weights());
+      Smoothing_report* rep[2] = {&stats_.smoothing_source, &stats_.smoothing_target};
+      for (int k = 0; k < 2; ++k) {
+        auto w = weights;
+        w.prepare(B_.side[k].m);
+        internal::Local_smoother<decltype(w)> smoother(P_[k], w);
+        *rep[k] = smoother.run(so);
+      }
+    }
+    const auto t4 = clock::now();
+    for (int k = 0; k < 2; ++k) {
+      cert_[k] = P_[k].certify();
+      if (!cert_[k].valid)
+        throw Algorithm_error(std::string(k ? "target" : "source") + " parameterization failed its certificate: " +
+                              cert_[k].message);
+    }
+    const auto t5 = clock::now();
+    locator_[0].build(P_[0]);
+    locator_[1].build(P_[1]);
+    stats_.distortion = measure_distortion();
+    check_features(features);
+    stats_.seconds_parameterization = sec(t1, t2);
+    stats_.seconds_smoothing = sec(t3, t4);
+    stats_.seconds_certificate = sec(t4, t5);
+    stats_.seconds_total = sec(t0, clock::now());
+  }
+
+  // ---- queries on the refined meshes ----
+
+  /// F: the image on the target of a point of the (refined) source.
+  Target_location to_target(const Source_location& p) const { return map<1>(p, link_s_, link_t_, face_index_s_); }
+  /// F^-1: the image on the source of a point of the (refined) target.
+  Source_location to_source(const Target_location& p) const { return map<0>(p, link_t_, link_s_, face_index_t_); }
+
+  /// Image on the target of source vertex v (index in vertices(source) order), against the target as given.
+  Input_location source_vertex_to_target_input(std::size_t v) const { return vertex_to_input(0, v); }
+  /// Image on the source of target vertex v, against the source as given.
+  Input_location target_vertex_to_source_input(std::size_t v) const { return vertex_to_input(1, v); }
+
+  /// Base-domain location of vertex v of the source (side 0) or target (side 1).
+  const Base_location& base_location(int side, std::size_t v) const {
+    return P_[side][internal::WV(internal::WV::size_type(v))];
+  }
+
+  const Patch_layout& layout() const { return layout_; }
+  const Bijectivity_certificate& certificate(int side) const { return cert_[side]; }
+  const Cross_parameterization_statistics& statistics() const { return stats_; }
+  /// Vertex count of the input meshes, before any refinement.
+  std::size_t input_vertices(int side) const { return B_.side[side].n_original_vertices; }
+
+  // ---- internals exposed for the remeshing stage and the CLI ----
+  const internal::Layout_builder& work() const { return B_; }
+  const internal::Base_parameterization& parameterization(int side) const { return P_[side]; }
+  const internal::Base_locator& locator(int side) const { return locator_[side]; }
+  const internal::Base_mesh& base_mesh() const { return base_; }
+
+  /// The image of work location l of mesh `side` on the other mesh (work faces).
+  internal::Work_location map_work(int side, const internal::Work_location& l) const {
+    return locator_[1 - side].locate(work_to_base(side, l));
+  }
+
+  /// Base location of a work location.
+  Base_location work_to_base(int side, const internal::Work_location& l) const {
+    const auto& m = B_.side[side].m;
+    internal::WH h = m.halfedge(l.face);
+    internal::WV vs[3] = {m.source(h), m.target(h), m.target(m.next(h))};
+    for (int i = 0; i < 3; ++i)
+      if (l.b[i] == 1.0) return P_[side][vs[i]];
+    std::array<const Base_location*, 3> ls{&P_[side][vs[0]], &P_[side][vs[1]], &P_[side][vs[2]]};
+    std::array<internal::Point_2, 3> p;
+    int c, n;
+    base_.canonical_frame(ls, c, n, p);
+    internal::Point_2 q(l.b[0] * p[0].x() + l.b[1] * p[1].x() + l.b[2] * p[2].x(),
+                        l.b[0] * p[0].y() + l.b[1] * p[1].y() + l.b[2] * p[2].y());
+    Base_location out;
+    if (!base_.locate_in_chart(c, q, out)) out = *ls[0]; // cannot happen: q is inside the chart
+    return out;
+  }
+
+  /// A work location on mesh `side` as an input location (face of the input, barycentrics in input order).
+  Input_location work_to_input(int side, const internal::Work_location& l) const {
+    const internal::Layout_mesh& L = B_.side[side];
+    const int o = L.forig[l.face];
+    internal::WH h = L.m.halfedge(l.face);
+    internal::WV vs[3] = {L.m.source(h), L.m.target(h), L.m.target(L.m.next(h))};
+    Input_location r;
+    r.face = std::size_t(o);
+    for (int i = 0; i < 3; ++i) {
+      std::array<double, 3> rep;
+      if (!L.rep_in(vs[i], o, rep)) throw Algorithm_error("internal error: refined face outside its input face");
+      for (int j = 0; j < 3; ++j) r.b[j] += l.b[i] * rep[j];
+    }
+    return r;
+  }
+
+private:
+  /// Shape of the base domain: each base edge as long as its two paths, averaged over both meshes after
+  /// scaling each mesh to unit area; then every base triangle is made to satisfy the triangle inequality
+  /// with some slack by shortening its longest edge.
+  std::map<std::pair<int, int>, double> base_edge_lengths() const {
+    std::map<std::pair<int, int>, double> len;
+    for (int k = 0; k < 2; ++k) {
+      const internal::Layout_mesh& L = B_.side[k];
+      double area = 0;
+      for (internal::WF f : L.m.faces()) {
+        internal::WH h = L.m.halfedge(f);
+        area += std::sqrt(CGAL::squared_area(L.m.point(L.m.source(h)), L.m.point(L.m.target(h)),
+                                             L.m.point(L.m.target(L.m.next(h)))));
+      }
+      const double scale = area > 0 ? 1.0 / std::sqrt(area) : 1.0;
+      for (std::size_t p = 0; p < B_.path_ends.size(); ++p) {
+        if (B_.path_ends[p][0] < 0) continue;
+        const int a = B_.path_ends[p][0], b = B_.path_ends[p][1];
+        len[{std::min(a, b), std::max(a, b)}] += 0.5 * scale * L.path_length(L.paths[p]);
+      }
+    }
+    for (auto& [e, l] : len)
+      if (!(l > 0)) l = 1e-3;
+    // Triangle inequality with slack: the longest edge at most 0.9 of the two others together.
+    for (bool changed = true; changed;) {
+      changed = false;
+      for (const auto& t : layout_.base_triangles) {
+        std::array<double*, 3> e;
+        for (int i = 0; i < 3; ++i) {
+          int a = int(t[i]), b = int(t[(i + 1) % 3]);
+          e[i] = &len.at({std::min(a, b), std::max(a, b)});
+        }
+        std::sort(e.begin(), e.end(), [](double* x, double* y) { return *x < *y; });
+        if (*e[2] > 0.9 * (*e[0] + *e[1])) {
+          *e[2] = 0.9 * (*e[0] + *e[1]);
+          changed = true;
+        }
+      }
+    }
+    return len;
+  }
+
+  Input_location vertex_to_input(int side, std::size_t v) const {
+    const internal::Layout_mesh& L = B_.side[side];
+    const internal::WV wv{internal::WV::size_type(v)};
+    const int f = L.vfeature[wv];
+    if (f != internal::no_feature) { // features map exactly onto their partners
+      internal::WV partner = B_.side[1 - side].feature_vertex[f];
+      const auto& rep = B_.side[1 - side].vrep[partner];
+      return {std::size_t(rep.first), rep.second};
+    }
+    return work_to_input(1 - side, locator_[1 - side].locate(P_[side][wv]));
+  }
+
+  template <int To, class LinkFrom, class LinkTo, class FaceIndex, class Loc>
+  auto map(const Loc& p, const LinkFrom& from, const LinkTo& to, FaceIndex& index) const {
+    constexpr int From = 1 - To;
+    if (index.empty())
+      for (std::size_t i = 0; i < from.face.size(); ++i) index[from.face[i]] = i;
+    auto it = index.find(p.first);
+    if (it == index.end()) throw Input_error("face location: the face is not a face of the mesh");
+    // Barycentrics from the user's face order to the work face's halfedge order.
+    internal::Work_location l;
+    l.face = internal::WF(internal::WF::size_type(it->second));
+    const auto& m = B_.side[From].m;
+    internal::WH h = m.halfedge(l.face);
+    const internal::WV wv[3] = {m.source(h), m.target(h), m.target(m.next(h))};
+    const auto uv = user_face_vertices<From>(p.first);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        if (from.vertex[wv[j]] == uv[i]) l.b[j] = p.second[i];
+    const internal::Work_location r = map_work(From, l);
+    // Back to the user's face order on the other mesh.
+    const auto& m2 = B_.side[To].m;
+    internal::WH h2 = m2.halfedge(r.face);
+    const internal::WV wv2[3] = {m2.source(h2), m2.target(h2), m2.target(m2.next(h2))};
+    const auto face = to.face[r.face];
+    const auto uv2 = user_face_vertices<To>(face);
+    std::array<double, 3> b{{0, 0, 0}};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        if (to.vertex[wv2[j]] == uv2[i]) b[i] = r.b[j];
+    return std::make_pair(face, b);
+  }
+
+  template <int Side>
+  auto& mesh_ref() const {
+    if constexpr (Side == 0) return tm_s_;
+    else return tm_t_;
+  }
+
+  template <int Side, class Face>
+  auto user_face_vertices(Face f) const {
+    const auto& g = mesh_ref<Side>();
+    auto h = halfedge(f, g);
+    using V = typename boost::graph_traits<std::decay_t<decltype(g)>>::vertex_descriptor;
+    return std::array<V, 3>{source(h, g), target(h, g), target(next(h, g), g)};
+  }
+
+  /// Distortion of F on the refined source: images of the source vertices on the target.
+  Distortion measure_distortion() const {
+    const auto& ms = B_.side[0].m;
+    const auto& mt = B_.side[1].m;
+    std::vector<Point_3> image(ms.number_of_vertices());
+    for (internal::WV v : ms.vertices()) {
+      internal::Work_location l = locator_[1].locate(P_[0][v]);
+      internal::WH h = mt.halfedge(l.face);
+      const Point_3 &a = mt.point(mt.source(h)), &b = mt.point(mt.target(h)), &c = mt.point(mt.target(mt.next(h)));
+      image[v] = Point_3(l.b[0] * a.x() + l.b[1] * b.x() + l.b[2] * c.x(), l.b[0] * a.y() + l.b[1] * b.y() + l.b[2] * c.y(),
+                         l.b[0] * a.z() + l.b[1] * b.z() + l.b[2] * c.z());
+    }
+    std::vector<std::array<Point_3, 3>> from, to;
+    for (internal::WF f : ms.faces()) {
+      internal::WH h = ms.halfedge(f);
+      internal::WV a = ms.source(h), b = ms.target(h), c = ms.target(ms.next(h));
+      from.push_back({ms.point(a), ms.point(b), ms.point(c)});
+      to.push_back({image[a], image[b], image[c]});
+    }
+    return triangle_map_distortion(from, to);
+  }
+
+  void check_features(const Feature_correspondence& f) const {
+    for (std::size_t k = 0; k < f.size(); ++k) {
+      for (int side = 0; side < 2; ++side) {
+        internal::WV v = B_.side[side].feature_vertex[k];
+        internal::Work_location l = locator_[1 - side].locate(P_[side][v]);
+        const auto& m = B_.side[1 - side].m;
+        internal::WH h = m.halfedge(l.face);
+        internal::WV vs[3] = {m.source(h), m.target(h), m.target(m.next(h))};
+        double at_partner = 0;
+        for (int i = 0; i < 3; ++i)
+          if (vs[i] == B_.side[1 - side].feature_vertex[k]) at_partner = l.b[i];
+        if (!(at_partner > 1 - 1e-9))
+          throw Algorithm_error("feature " + std::to_string(k) + " does not map onto its partner");
+      }
+    }
+  }
+
+  SourceMesh& tm_s_;
+  TargetMesh& tm_t_;
+  internal::Layout_builder B_;
+  internal::Mesh_link<SourceMesh> link_s_;
+  internal::Mesh_link<TargetMesh> link_t_;
+  mutable std::map<typename boost::graph_traits<SourceMesh>::face_descriptor, std::size_t> face_index_s_;
+  mutable std::map<typename boost::graph_traits<TargetMesh>::face_descriptor, std::size_t> face_index_t_;
+  Patch_layout layout_;
+  internal::Base_mesh base_;
+  internal::Base_parameterization P_[2];
+  internal::Base_locator locator_[2];
+  Bijectivity_certificate cert_[2];
+  Cross_parameterization_statistics stats_;
+};
+
+} // namespace crossparam
+
+#endif // CROSSPARAM_CROSS_PARAMETERIZATION_H

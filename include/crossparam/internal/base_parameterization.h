@@ -1,0 +1,225 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The parameterization of one mesh over the base domain (paper §4.1): a Base_location per vertex, initialised
+// patch by patch by mean-value parameterization onto the base triangle (Floater 2003) with the patch boundary
+// laid on the triangle's sides by arc length, and the exact certificate that the resulting piecewise-linear
+// map is one-to-one.
+#ifndef CROSSPARAM_INTERNAL_BASE_PARAMETERIZATION_H
+#define CROSSPARAM_INTERNAL_BASE_PARAMETERIZATION_H
+
+#include <crossparam/internal/base_domain.h>
+#include <crossparam/internal/layout_builder.h>
+
+#include <Eigen/Sparse>
+#include <Eigen/SparseLU>
+
+#include <string>
+#include <vector>
+
+namespace crossparam {
+
+/// Result of the bijectivity certificate of one mesh's map onto the base mesh.
+struct Bijectivity_certificate {
+  bool valid = false;
+  std::size_t faces = 0;          ///< faces checked
+  std::size_t not_positive = 0;   ///< faces whose image is flipped or degenerate (exact predicate)
+  std::size_t not_in_a_chart = 0; ///< faces whose corners span more than two adjacent base triangles
+  std::size_t coverage = 0;       ///< faces covering a probe point of the base mesh (1 when one-to-one)
+  std::string message;            ///< empty when valid
+};
+
+namespace internal {
+
+/// Mean-value weight of halfedge h = (i -> j) for vertex i (Floater 2003): (tan(a/2) + tan(b/2)) / |xj - xi|,
+/// a and b the angles at i of the two triangles on either side. Always positive; falls back to 1/|mean edge|
+/// on degenerate geometry (coincident points), where the formula is undefined.
+inline double mean_value_weight(const Work_mesh& m, WH h, double fallback) {
+  const Point_3& xi = m.point(m.source(h));
+  const Point_3& xj = m.point(m.target(h));
+  auto tan_half = [&](const Point_3& a, const Point_3& b) { // angle at xi between a - xi and b - xi
+    Kernel::Vector_3 e1 = a - xi, e2 = b - xi;
+    double l1 = std::sqrt(e1.squared_length()), l2 = std::sqrt(e2.squared_length());
+    double den = l1 * l2 + e1 * e2;
+    double num = std::sqrt(CGAL::cross_product(e1, e2).squared_length());
+    return den > 0 ? num / den : HUGE_VAL;
+  };
+  const Point_3& xk = m.point(m.target(m.next(h)));
+  const Point_3& xl = m.point(m.target(m.next(m.opposite(h))));
+  double len = std::sqrt(CGAL::squared_distance(xi, xj));
+  double w = (tan_half(xj, xk) + tan_half(xl, xj)) / len;
+  if (!std::isfinite(w) || !(w > 0)) return fallback;
+  return w;
+}
+
+/// One mesh parameterized over the base mesh.
+struct Base_parameterization {
+  const Base_mesh* base = nullptr;
+  Layout_mesh* mesh = nullptr;
+  std::vector<Base_location> loc; ///< per vertex
+
+  Base_location& operator[](WV v) { return loc[v]; }
+  const Base_location& operator[](WV v) const { return loc[v]; }
+
+  CGAL::Orientation face_orientation(WF f, bool* fits = nullptr) const {
+    WH h = mesh->m.halfedge(f);
+    return base->triangle_orientation(loc[mesh->m.source(h)], loc[mesh->m.target(h)],
+                                      loc[mesh->m.target(mesh->m.next(h))], fits);
+  }
+
+  /// §4.1: boundary by arc length on the base triangle sides, interior by mean-value coordinates, one sparse
+  /// LU factorization per patch solved for both coordinates. `face_tri` is the base triangle of each face
+  /// (the patch labels of the layout); `path_ends` the features of each path id. With `uniform` the weights
+  /// are all 1 (Tutte), a fallback when mean-value weights are numerically too skewed.
+  void initialize(const std::vector<int>& face_tri, const std::vector<std::array<int, 2>>& path_ends, bool uniform) {
+    const Work_mesh& m = mesh->m;
+    const Base_mesh& B = *base;
+    loc.assign(m.number_of_vertices(), Base_location{});
+    std::vector<char> fixed(m.number_of_vertices(), 0);
+    // Features at their corners.
+    for (std::size_t k = 0; k < mesh->feature_vertex.size(); ++k) {
+      WV v = mesh->feature_vertex[k];
+      int t = B.around[k].front();
+      loc[v].tri = t;
+      loc[v].b = {0, 0, 0};
+      loc[v].b[B.corner_index(t, int(k))] = 1.0;
+      fixed[v] = 1;
+    }
+    // Path vertices by arc length along their base edge.
+    for (std::size_t p = 0; p < path_ends.size(); ++p) {
+      const auto& hp = mesh->paths[p];
+      if (path_ends[p][0] < 0 || hp.empty()) continue;
+      const int a = path_ends[p][0], b = path_ends[p][1];
+      int t = -1;
+      for (int x : B.around[a]) {
+        int i = B.corner_index(x, a);
+        if (B.tri[x][(i + 1) % 3] == b) t = x;
+      }
+      if (t < 0) throw Algorithm_error("internal error: a path is not a base edge");
+      const int ia = B.corner_index(t, a), ib = B.corner_index(t, b);
+      double total = 0;
+      for (WH h : hp) total += mesh->edge_length(h);
+      double acc = 0;
+      for (std::size_t i = 0; i + 1 < hp.size(); ++i) {
+        acc += mesh->edge_length(hp[i]);
+        double s = total > 0 ? acc / total : double(i + 1) / double(hp.size());
+        s = std::min(std::max(s, 1e-12), 1 - 1e-12); // strictly between the corners
+        WV v = m.target(hp[i]);
+        loc[v].tri = t;
+        loc[v].b = {0, 0, 0};
+        loc[v].b[ia] = 1 - s;
+        loc[v].b[ib] = s;
+        fixed[v] = 1;
+      }
+    }
+    // Interior vertices, patch by patch.
+    std::vector<std::vector<WV>> interior(B.tri.size());
+    std::vector<int> row(m.number_of_vertices(), -1);
+    for (WV v : m.vertices()) {
+      if (fixed[v]) continue;
+      int t = face_tri[m.face(m.halfedge(v))];
+      row[v] = int(interior[t].size());
+      interior[t].push_back(v);
+    }
+    double mean_edge = 0;
+    for (WE e : m.edges()) mean_edge += mesh->edge_length(m.halfedge(e));
+    mean_edge /= std::max<std::size_t>(1, m.number_of_edges());
+    const double fallback = mean_edge > 0 ? 1.0 / mean_edge : 1.0;
+    for (std::size_t t = 0; t < B.tri.size(); ++t) {
+      const auto& q = B.q[t];
+      const auto& vs = interior[t];
+      if (vs.empty()) continue;
+      const int n = int(vs.size());
+      std::vector<Eigen::Triplet<double>> trip;
+      Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, 2);
+      for (int r = 0; r < n; ++r) {
+        WV v = vs[r];
+        double sum = 0;
+        for (WH h : CGAL::halfedges_around_source(v, m)) {
+          double w = uniform ? 1.0 : mean_value_weight(m, h, fallback);
+          sum += w;
+          WV u = m.target(h);
+          if (row[u] >= 0) {
+            trip.emplace_back(r, row[u], -w);
+          } else {
+            std::array<double, 3> bx;
+            if (!B.convert(loc[u], int(t), bx))
+              throw Algorithm_error("internal error: a patch boundary vertex is off its base triangle");
+            rhs(r, 0) += w * (bx[0] * q[0].x() + bx[1] * q[1].x() + bx[2] * q[2].x());
+            rhs(r, 1) += w * (bx[0] * q[0].y() + bx[1] * q[1].y() + bx[2] * q[2].y());
+          }
+        }
+        trip.emplace_back(r, r, sum);
+      }
+      Eigen::SparseMatrix<double> A(n, n);
+      A.setFromTriplets(trip.begin(), trip.end());
+      Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
+      lu.analyzePattern(A);
+      lu.factorize(A);
+      if (lu.info() != Eigen::Success)
+        throw Algorithm_error("mean-value system of patch " + std::to_string(t) + " could not be factorized");
+      Eigen::MatrixXd x = lu.solve(rhs);
+      if (lu.info() != Eigen::Success || !x.allFinite())
+        throw Algorithm_error("mean-value system of patch " + std::to_string(t) + " could not be solved");
+      for (int r = 0; r < n; ++r) {
+        loc[vs[r]].tri = int(t);
+        loc[vs[r]].b = B.frame_barycentric(int(t), Point_2(x(r, 0), x(r, 1)));
+      }
+    }
+  }
+
+  /// Proves with exact predicates that the map from the mesh to the base mesh is one-to-one: every face is
+  /// positively oriented in its canonical chart (so the map is a local homeomorphism away from vertices, a
+  /// branched covering of the sphere), and a probe point of the base mesh is covered by exactly one face (so
+  /// the covering has degree 1, hence no branching: a bijection).
+  Bijectivity_certificate certify() const {
+    Bijectivity_certificate c;
+    const Work_mesh& m = mesh->m;
+    c.faces = m.number_of_faces();
+    for (WF f : m.faces()) {
+      bool fits = true;
+      CGAL::Orientation o = face_orientation(f, &fits);
+      if (!fits) ++c.not_in_a_chart;
+      else if (o != CGAL::POSITIVE) ++c.not_positive;
+    }
+    // Probe points inside base triangle 0; a probe on a face boundary is ambiguous, so try another.
+    const std::array<std::array<double, 3>, 4> probes{{{0.3141, 0.3317, 0.3542}, {0.2718, 0.4142, 0.3140},
+                                                       {0.4472, 0.2236, 0.3292}, {0.1732, 0.5477, 0.2791}}};
+    bool decided = false;
+    for (const auto& pb : probes) {
+      Base_location probe{0, pb};
+      std::size_t count = 0;
+      bool ambiguous = false;
+      for (WF f : m.faces()) {
+        WH h = m.halfedge(f);
+        std::array<const Base_location*, 4> ls{&loc[m.source(h)], &loc[m.target(h)], &loc[m.target(m.next(h))], &probe};
+        std::array<Point_2, 4> p;
+        int fc, fn;
+        if (!base->canonical_frame(ls, fc, fn, p)) continue; // face does not reach the probe's triangle
+        CGAL::Orientation o0 = CGAL::orientation(p[1], p[2], p[3]), o1 = CGAL::orientation(p[2], p[0], p[3]),
+                          o2 = CGAL::orientation(p[0], p[1], p[3]);
+        if (o0 == CGAL::NEGATIVE || o1 == CGAL::NEGATIVE || o2 == CGAL::NEGATIVE) continue;
+        if (o0 == CGAL::ZERO || o1 == CGAL::ZERO || o2 == CGAL::ZERO) {
+          ambiguous = true;
+          break;
+        }
+        ++count;
+      }
+      if (ambiguous) continue;
+      c.coverage = count;
+      decided = true;
+      break;
+    }
+    c.valid = decided && c.not_positive == 0 && c.not_in_a_chart == 0 && c.coverage == 1;
+    if (!c.valid) {
+      c.message = std::to_string(c.not_positive) + " of " + std::to_string(c.faces) +
+                  " faces flipped or degenerate, " + std::to_string(c.not_in_a_chart) +
+                  " outside any chart, probe covered " + std::to_string(c.coverage) + " times" +
+                  (decided ? "" : " (probe undecided)");
+    }
+    return c;
+  }
+};
+
+} // namespace internal
+} // namespace crossparam
+
+#endif // CROSSPARAM_INTERNAL_BASE_PARAMETERIZATION_H

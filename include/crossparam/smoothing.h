@@ -1,0 +1,153 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Local smoothing of a parameterization over the base mesh (Kraevoy & Sheffer 2004, §4.2), with the edge
+// weights as a policy: mean-value weights of the original mesh for the shape-preserving map (§4.2), the
+// error-driven weights of §5.2 for adaptive remeshing. The same code serves both.
+//
+// Each vertex is relocated in the 4-triangle chart of its base triangle (the triangle and its three neighbours
+// unfolded around it, internal/base_domain.h) to the weighted average of its neighbours. A move is rejected if
+// any incident triangle would leave a chart of two adjacent base triangles (the adjacency constraint) or would
+// not be positively oriented there (exact predicate), so a one-to-one map stays one-to-one. Vertices migrate
+// between base triangles freely under that rule; features never move.
+#ifndef CROSSPARAM_SMOOTHING_H
+#define CROSSPARAM_SMOOTHING_H
+
+#include <crossparam/internal/base_parameterization.h>
+
+#include <vector>
+
+namespace crossparam {
+
+/// Options of the local smoothing; every field has a default.
+struct Smoothing_options {
+  unsigned max_iterations = 200; ///< passes over all vertices at most
+  /// Stop when no vertex moved farther than this in a pass, in units of a base-triangle edge.
+  double tolerance = 1e-4;
+};
+
+/// What a smoothing run did.
+struct Smoothing_report {
+  unsigned iterations = 0;
+  double last_max_move = 0;     ///< largest move in the last pass, in base-edge units
+  std::size_t moves = 0;        ///< accepted moves
+  std::size_t rejected = 0;     ///< moves rejected by the flip or adjacency test
+  std::size_t migrations = 0;   ///< accepted moves into another base triangle
+};
+
+/// Weights policy of the shape-preserving smoothing (§4.2): mean-value weights computed once on the
+/// original 3D geometry of the mesh (Floater 2003). A model of `SmoothingWeights`:
+/// `void prepare(const internal::Work_mesh&)` and `double operator()(halfedge h)`, the weight of target(h)
+/// in the average for source(h); weights must be positive.
+class Mean_value_weights {
+public:
+  void prepare(const internal::Work_mesh& m) {
+    double mean_edge = 0;
+    for (auto e : m.edges()) mean_edge += std::sqrt(CGAL::squared_distance(m.point(m.source(m.halfedge(e))), m.point(m.target(m.halfedge(e)))));
+    mean_edge /= std::max<std::size_t>(1, m.number_of_edges());
+    const double fallback = mean_edge > 0 ? 1.0 / mean_edge : 1.0;
+    w_.assign(m.number_of_halfedges(), 0.0);
+    for (auto h : m.halfedges()) w_[h] = internal::mean_value_weight(m, h, fallback);
+  }
+  double operator()(internal::WH h) const { return w_[h]; }
+
+private:
+  std::vector<double> w_;
+};
+
+namespace internal {
+
+/// The local smoother of §4.2 over one mesh's base parameterization.
+template <class Weights>
+class Local_smoother {
+public:
+  Local_smoother(Base_parameterization& p, const Weights& w) : p_(p), w_(w) {}
+
+  /// One pass over all vertices. Returns the largest move (base-edge units).
+  double pass(Smoothing_report& r) {
+    const Work_mesh& m = p_.mesh->m;
+    const Base_mesh& B = *p_.base;
+    double max_move = 0;
+    std::vector<int> centers;
+    std::vector<Point_2> nbr;
+    std::vector<double> wts;
+    for (WV v : m.vertices()) {
+      if (p_.mesh->vfeature[v] != no_feature) continue;
+      B.containing(p_[v], centers);
+      for (int c : centers) {
+        // Neighbours in the 4-triangle chart of c.
+        nbr.clear();
+        wts.clear();
+        bool ok = true;
+        for (WH h : CGAL::halfedges_around_source(v, m)) {
+          Point_2 q;
+          if (!chart_point(B, c, p_[m.target(h)], q)) {
+            ok = false;
+            break;
+          }
+          nbr.push_back(q);
+          wts.push_back(w_(h));
+        }
+        if (!ok) continue;
+        double sx = 0, sy = 0, sw = 0;
+        for (std::size_t i = 0; i < nbr.size(); ++i) {
+          sx += wts[i] * nbr[i].x();
+          sy += wts[i] * nbr[i].y();
+          sw += wts[i];
+        }
+        if (!(sw > 0)) break;
+        Point_2 target(sx / sw, sy / sw), old;
+        chart_point(B, c, p_[v], old);
+        Base_location moved;
+        if (!B.locate_in_chart(c, target, moved)) {
+          ++r.rejected;
+          break;
+        }
+        const Base_location before = p_[v];
+        p_[v] = moved;
+        bool valid = true;
+        for (WF f : CGAL::faces_around_target(m.halfedge(v), m))
+          if (p_.face_orientation(f) != CGAL::POSITIVE) {
+            valid = false;
+            break;
+          }
+        if (!valid) {
+          p_[v] = before;
+          ++r.rejected;
+          break;
+        }
+        double d = std::sqrt(CGAL::squared_distance(old, target));
+        max_move = std::max(max_move, d);
+        ++r.moves;
+        if (moved.tri != before.tri) ++r.migrations;
+        break;
+      }
+    }
+    return max_move;
+  }
+
+  Smoothing_report run(const Smoothing_options& o) {
+    Smoothing_report r;
+    for (unsigned it = 0; it < o.max_iterations; ++it) {
+      r.last_max_move = pass(r);
+      r.iterations = it + 1;
+      if (r.last_max_move < o.tolerance) break;
+    }
+    return r;
+  }
+
+private:
+  /// Coordinates of l in the 4-triangle chart of c (c's frame, neighbours unfolded).
+  static bool chart_point(const Base_mesh& B, int c, const Base_location& l, Point_2& q) {
+    if (B.frame_point(c, -1, l, q)) return true;
+    for (int n = 0; n < 3; ++n)
+      if (B.frame_point(c, n, l, q)) return true;
+    return false;
+  }
+
+  Base_parameterization& p_;
+  const Weights& w_;
+};
+
+} // namespace internal
+} // namespace crossparam
+
+#endif // CROSSPARAM_SMOOTHING_H
