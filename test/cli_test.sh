@@ -76,6 +76,8 @@ expect_error feature-malformed "line 3" -- layout "$work/octa.off" "$work/octa.o
 expect_error feature-duplicate "twice\|same\|duplicate\|already" -- layout "$work/octa.off" "$work/octa.off" --features "$work/fdup.txt" -o "$work/out"
 expect_error usage "usage\|needs\|help" -- layout "$work/octa.off"
 expect_error unknown-command "unknown" -- frobnicate
+expect_error map-few-features "4" -- map "$work/octa.off" "$work/octa.off" --features "$work/f3.txt" -o "$work/out"
+expect_error bad-iterations "iterations" -- map "$work/octa.off" "$work/octa.off" --features "$work/f4.txt" -o "$work/out" --iterations x
 if [ -d "$shared/data/nasty" ]; then
   expect_error nasty-cubes "non-manifold" -- layout "$shared/data/nasty/cgal/cubes.off" "$work/octa.off" --features "$work/f4.txt" -o "$work/out"
   expect_error nasty-crasher "" -- layout "$shared/data/nasty/cgal-io-crashers/ply_binary_huge_alloc.ply" "$work/octa.off" --features "$work/f4.txt" -o "$work/out"
@@ -96,7 +98,8 @@ fi
 
 # The demo.
 if "$cli" demo -o "$work/demo" --quiet; then
-  for f in source.off target.off features.txt source_patches.txt report.json; do
+  for f in source.off target.off features.txt source_patches.txt report.json source_to_target.txt \
+           target_to_source.txt source_checker.obj target_checker.obj checker.png checker.mtl; do
     [ -s "$work/demo/$f" ] || bad "demo: missing $f"
   done
   ok
@@ -113,6 +116,18 @@ if [ -d "$shared/bench/wolf0_wolf2" ]; then
     ok
   else
     bad "layout on wolf0_wolf2 failed"
+  fi
+  if "$cli" map "$b/source.off" "$b/target.off" --features "$b/features.txt" -o "$work/wolfmap" --quiet; then
+    nv=$(sed -n 2p "$b/source.off" | awk '{print $1}')
+    [ "$(wc -l <"$work/wolfmap/source_to_target.txt")" -eq "$nv" ] || bad "map: one line per source vertex"
+    nvt=$(sed -n 2p "$b/target.off" | awk '{print $1}')
+    nft=$(sed -n 2p "$b/target.off" | awk '{print $2}')
+    [ "$(wc -l <"$work/wolfmap/target_to_source.txt")" -eq "$nvt" ] || bad "map: one line per target vertex"
+    awk -v nf="$nft" '$1 < 0 || $1 >= nf || NF != 4 {exit 1}' "$work/wolfmap/source_to_target.txt" || bad "map: face index out of range"
+    grep -q '"valid": true' "$work/wolfmap/report.json" || bad "map: certificate not reported valid"
+    ok
+  else
+    bad "map on wolf0_wolf2 failed"
   fi
 else
   echo "shared data not found at $shared: skipping the bench case"

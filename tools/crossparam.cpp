@@ -6,10 +6,12 @@
 //
 // Errors: one line on stderr, exit code 1 for bad input, 2 for bad usage, 3 for an internal failure.
 // Outputs are computed completely before anything is written, and each file is written atomically.
+#include <crossparam/cross_parameterization.h>
 #include <crossparam/io.h>
 #include <crossparam/patch_layout.h>
 #include <crossparam/render.h>
 #include <crossparam/shapes.h>
+#include <crossparam/internal/png.h>
 
 #include <chrono>
 #include <cstdio>
@@ -31,6 +33,8 @@ const char* const usage_text =
     "commands:\n"
     "  layout SOURCE TARGET --features FILE -o DIR\n"
     "      topologically identical triangular patch layouts of two closed genus-0 meshes (paper section 3)\n"
+    "  map SOURCE TARGET --features FILE -o DIR\n"
+    "      cross-parameterization (paper section 4): the bijective map between the meshes, certified\n"
     "  demo -o DIR\n"
     "      generate two creatures in code, pick corresponding features, run the pipeline on them\n"
     "\n"
@@ -39,6 +43,8 @@ const char* const usage_text =
     "                    0-based indices in file order, '#' starts a comment\n"
     "  -o, --output DIR  output directory (created if missing)\n"
     "  --no-flips        skip the path flips of section 3.3\n"
+    "  --iterations N    smoothing passes at most (map; default 200)\n"
+    "  --no-smoothing    skip the smoothing of section 4.2 (map)\n"
     "  --png             also render pictures of the results (needs POV-Ray: apt-get install povray)\n"
     "  --quiet           print nothing but errors\n"
     "  -h, --help        this text\n"
@@ -57,6 +63,8 @@ struct Options {
   bool flips = true;
   bool quiet = false;
   bool png = false;
+  bool smoothing = true;
+  unsigned iterations = 200;
 };
 
 Options parse(int argc, char** argv) {
@@ -73,6 +81,14 @@ Options parse(int argc, char** argv) {
     else if (a == "-o" || a == "--output") o.output = value();
     else if (a == "--no-flips") o.flips = false;
     else if (a == "--png") o.png = true;
+    else if (a == "--no-smoothing") o.smoothing = false;
+    else if (a == "--iterations") {
+      std::string v = value();
+      char* end = nullptr;
+      unsigned long n = std::strtoul(v.c_str(), &end, 10);
+      if (v.empty() || *end != '\0' || n > 100000) throw Usage_error("--iterations needs a whole number up to 100000");
+      o.iterations = unsigned(n);
+    }
     else if (a == "--quiet" || a == "-q") o.quiet = true;
     else if (a == "-h" || a == "--help") throw Usage_error("");
     else if (!a.empty() && a[0] == '-') throw Usage_error("unknown option " + a);
@@ -220,6 +236,161 @@ int run_layout(const Options& o) {
   return 0;
 }
 
+using Map = Cross_parameterization<Surface_mesh, Surface_mesh>;
+
+/// The map at a glance: both input meshes as textured OBJ files sharing one checkerboard texture. Texture
+/// coordinates come from the base domain: each base triangle owns a tile of the texture, and a vertex's UV is
+/// its base location placed in that tile. A target vertex's UV is that of its preimage on the source (F^-1),
+/// which is the same base location; corresponding squares on the two meshes are corresponding regions.
+void write_checkerboard(const Options& o, const Map& cp) {
+  auto out = [&](const std::string& name) { return (fs::path(o.output) / name).string(); };
+  const int tex = 512, squares = 32;
+  std::vector<std::array<unsigned char, 3>> img(std::size_t(tex) * tex);
+  for (int y = 0; y < tex; ++y)
+    for (int x = 0; x < tex; ++x) {
+      bool dark = ((x * squares / tex) + (y * squares / tex)) % 2;
+      img[std::size_t(y) * tex + x] = dark ? std::array<unsigned char, 3>{40, 60, 140} : std::array<unsigned char, 3>{240, 235, 220};
+    }
+  write_file_atomically(out("checker.png"), [&](std::ostream& os) { internal::write_png(os, tex, tex, img); });
+  write_file_atomically(out("checker.mtl"), [&](std::ostream& os) {
+    os << "newmtl checker\nKa 1 1 1\nKd 1 1 1\nKs 0 0 0\nmap_Kd checker.png\n";
+  });
+  const auto& base = cp.base_mesh();
+  const std::size_t nt = base.tri.size();
+  const int cols = int(std::ceil(std::sqrt(double(nt))));
+  // Tile of base triangle t: a square of side 1/cols; the frame is scaled to fit with a margin.
+  auto uv = [&](int t, const internal::Point_2& p) {
+    double lo_x = HUGE_VAL, hi_x = -HUGE_VAL, lo_y = HUGE_VAL, hi_y = -HUGE_VAL;
+    for (const auto& q : base.q[t]) lo_x = std::min(lo_x, q.x()), hi_x = std::max(hi_x, q.x()), lo_y = std::min(lo_y, q.y()), hi_y = std::max(hi_y, q.y());
+    double size = std::max(hi_x - lo_x, hi_y - lo_y);
+    double cell = 1.0 / cols;
+    double u = (t % cols + 0.1 + 0.8 * (p.x() - lo_x) / size) * cell;
+    double v = (t / cols + 0.1 + 0.8 * (p.y() - lo_y) / size) * cell;
+    return std::array<double, 2>{u, v};
+  };
+  for (int side = 0; side < 2; ++side) {
+    const auto& L = cp.work().side[side];
+    const auto& P = cp.parameterization(side);
+    Render_mesh picture;
+    write_file_atomically(out(side == 0 ? "source_checker.obj" : "target_checker.obj"), [&](std::ostream& os) {
+      os.precision(17);
+      os << "# crossparam: " << (side == 0 ? "source" : "target") << " textured from the base domain\n";
+      os << "mtllib checker.mtl\nusemtl checker\n";
+      for (auto v : L.m.vertices()) {
+        const auto p = L.input_point(L.m.point(v));
+        os << "v " << p[0] << " " << p[1] << " " << p[2] << "\n";
+      }
+      std::size_t k = 0;
+      for (auto f : L.m.faces()) {
+        auto h = L.m.halfedge(f);
+        std::array<internal::WV, 3> vs{L.m.source(h), L.m.target(h), L.m.target(L.m.next(h))};
+        std::array<const Base_location*, 3> ls{&P[vs[0]], &P[vs[1]], &P[vs[2]]};
+        std::array<internal::Point_2, 3> q;
+        int c, n;
+        base.canonical_frame(ls, c, n, q);
+        double cu = 0, cv = 0;
+        for (int i = 0; i < 3; ++i) {
+          auto t = uv(c, q[i]);
+          os << "vt " << t[0] << " " << t[1] << "\n";
+          cu += t[0] / 3;
+          cv += t[1] / 3;
+        }
+        if (o.png) {
+          int x = std::min(tex - 1, std::max(0, int(cu * tex))), y = std::min(tex - 1, std::max(0, int((1 - cv) * tex)));
+          picture.face_colors.push_back(img[std::size_t(y) * tex + x]);
+          picture.triangles.push_back({std::size_t(vs[0]), std::size_t(vs[1]), std::size_t(vs[2])});
+        }
+        os << "f " << std::size_t(vs[0]) + 1 << "/" << k + 1 << " " << std::size_t(vs[1]) + 1 << "/" << k + 2 << " "
+           << std::size_t(vs[2]) + 1 << "/" << k + 3 << "\n";
+        k += 3;
+      }
+    });
+    if (o.png) {
+      for (auto v : L.m.vertices()) picture.points.push_back(L.input_point(L.m.point(v)));
+      render_png(picture, out(side == 0 ? "source_checker.png" : "target_checker.png"));
+    }
+  }
+}
+
+Map compute_map(const Options& o, Surface_mesh& s, Surface_mesh& t, const Feature_correspondence& f) {
+  return Map(s, t, f,
+             crossparam::parameters::apply_path_flips(
+                 o.flips, crossparam::parameters::apply_smoothing(
+                              o.smoothing, CGAL::parameters::number_of_iterations(o.iterations))),
+             CGAL::parameters::default_values());
+}
+
+/// Writes the outputs of `crossparam map` into o.output.
+void write_map(const Options& o, const Map& cp, double read_s) {
+  fs::create_directories(o.output);
+  auto out = [&](const std::string& name) { return (fs::path(o.output) / name).string(); };
+  auto write_vertex_map = [&](const std::string& name, int side) {
+    write_file_atomically(out(name), [&](std::ostream& os) {
+      os.precision(17);
+      const std::size_t n = cp.input_vertices(side);
+      for (std::size_t v = 0; v < n; ++v) {
+        Input_location l = side == 0 ? cp.source_vertex_to_target_input(v) : cp.target_vertex_to_source_input(v);
+        os << l.face << " " << l.b[0] << " " << l.b[1] << " " << l.b[2] << "\n";
+      }
+    });
+  };
+  write_vertex_map("source_to_target.txt", 0);
+  write_vertex_map("target_to_source.txt", 1);
+  write_checkerboard(o, cp);
+  const Cross_parameterization_statistics& S = cp.statistics();
+  const Layout_statistics& L = S.layout;
+  auto dist = [&](const Distortion& d) {
+    return "{\"angular\": " + json_number(d.angular) + ", \"l2_stretch\": " + json_number(d.l2_stretch) + "}";
+  };
+  auto cert = [&](const Bijectivity_certificate& c) {
+    return std::string("{\"valid\": ") + (c.valid ? "true" : "false") + ", \"faces\": " + std::to_string(c.faces) +
+           ", \"flipped_or_degenerate\": " + std::to_string(c.not_positive) +
+           ", \"outside_chart\": " + std::to_string(c.not_in_a_chart) + ", \"coverage\": " + std::to_string(c.coverage) + "}";
+  };
+  write_file_atomically(out("report.json"), [&](std::ostream& os) {
+    os << "{\n  \"stage\": \"map\",\n";
+    os << "  \"source_vertices\": " << cp.input_vertices(0) << ",\n  \"target_vertices\": " << cp.input_vertices(1) << ",\n";
+    os << "  \"features\": " << L.features << ",\n  \"base_triangles\": " << cp.layout().base_triangles.size() << ",\n";
+    os << "  \"layout\": {\"edge_paths\": " << L.edge_paths << ", \"face_paths\": " << L.face_paths
+       << ", \"splits\": {\"source\": " << L.splits_source << ", \"target\": " << L.splits_target
+       << "}, \"adjacency_splits\": {\"source\": " << L.adjacency_splits_source << ", \"target\": " << L.adjacency_splits_target
+       << "}, \"flips\": " << L.flips << "},\n";
+    os << "  \"stretch_reweighted\": {\"source\": " << (S.stretch_reweighted_source ? "true" : "false")
+       << ", \"target\": " << (S.stretch_reweighted_target ? "true" : "false") << "},\n";
+    os << "  \"smoothing\": {\"passes\": " << S.smoothing_source.iterations << ", \"kept_after\": " << S.smoothing_best_iteration
+       << ", \"moves\": " << S.smoothing_source.moves + S.smoothing_target.moves
+       << ", \"rejected\": " << S.smoothing_source.rejected + S.smoothing_target.rejected
+       << ", \"migrations\": " << S.smoothing_source.migrations + S.smoothing_target.migrations << "},\n";
+    os << "  \"distortion_before_smoothing\": " << dist(S.distortion_initial) << ",\n";
+    os << "  \"distortion\": " << dist(S.distortion) << ",\n";
+    os << "  \"certificate\": {\"source\": " << cert(cp.certificate(0)) << ", \"target\": " << cert(cp.certificate(1)) << "},\n";
+    os << "  \"seconds\": {\"read\": " << json_number(read_s) << ", \"layout\": " << json_number(L.seconds_total)
+       << ", \"parameterization\": " << json_number(S.seconds_parameterization)
+       << ", \"smoothing\": " << json_number(S.seconds_smoothing) << ", \"certificate\": " << json_number(S.seconds_certificate)
+       << ", \"total\": " << json_number(S.seconds_total) << "}\n}\n";
+  });
+  if (!o.quiet) {
+    std::cout << "map: " << L.features << " features, " << cp.layout().base_triangles.size() << " base triangles; "
+              << "distortion E_ang " << json_number(S.distortion_initial.angular) << " -> " << json_number(S.distortion.angular)
+              << ", L2 stretch " << json_number(S.distortion_initial.l2_stretch) << " -> " << json_number(S.distortion.l2_stretch)
+              << "; certified one-to-one; " << json_number(S.seconds_total) << " s\n";
+    std::cout << "wrote " << o.output << "/\n";
+  }
+}
+
+int run_map(const Options& o) {
+  if (o.positional.size() != 2) throw Usage_error("map needs SOURCE and TARGET");
+  if (o.features.empty()) throw Usage_error("map needs --features FILE");
+  if (o.output.empty()) throw Usage_error("map needs -o DIR");
+  Timer tr;
+  Loaded s = load(o.positional[0], o), t = load(o.positional[1], o);
+  Feature_correspondence f = read_feature_pairs(o.features, s.mesh.number_of_vertices(), t.mesh.number_of_vertices());
+  double read_s = tr.seconds();
+  Map cp = compute_map(o, s.mesh, t.mesh, f);
+  write_map(o, cp, read_s);
+  return 0;
+}
+
 int run_demo(const Options& o) {
   if (o.output.empty()) throw Usage_error("demo needs -o DIR");
   Timer tg;
@@ -240,10 +411,9 @@ int run_demo(const Options& o) {
   if (!o.quiet)
     std::cout << "demo: creature A " << a.number_of_vertices() << " vertices, creature B " << b.number_of_vertices()
               << " vertices, " << f.size() << " features (" << json_number(gen_s) << " s to generate)\n";
-  Patch_layout L = compute_patch_layouts(a, b, f, crossparam::parameters::apply_path_flips(o.flips),
-                                         CGAL::parameters::default_values());
-  write_layout(o, a, b, L, {{"generate", gen_s}});
-  print_summary(o, L);
+  Map cp = compute_map(o, a, b, f);
+  write_layout(o, a, b, cp.layout(), {{"generate", gen_s}});
+  write_map(o, cp, gen_s);
   return 0;
 }
 
@@ -252,7 +422,10 @@ int run_demo(const Options& o) {
 int main(int argc, char** argv) {
   try {
     Options o = parse(argc, argv);
+    if (o.png && !povray_available())
+      throw Error("--png needs POV-Ray, which is not installed (apt-get install povray)");
     if (o.command == "layout") return run_layout(o);
+    if (o.command == "map") return run_map(o);
     if (o.command == "demo") return run_demo(o);
     if (o.command == "-h" || o.command == "--help" || o.command == "help") {
       std::cout << usage_text;

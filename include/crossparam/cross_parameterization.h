@@ -46,10 +46,11 @@ apply_smoothing(bool b, const NP& np = CGAL::parameters::default_values()) {
 struct Cross_parameterization_statistics {
   Layout_statistics layout;
   Smoothing_report smoothing_source, smoothing_target;
+  unsigned smoothing_best_iteration = 0; ///< passes after which the kept (least distorted) state was reached
   Distortion distortion_initial;  ///< of F right after the mean-value parameterization (§4.1)
   Distortion distortion;          ///< of the final F
-  bool uniform_fallback_source = false; ///< the mean-value system was replaced by uniform weights
-  bool uniform_fallback_target = false;
+  bool stretch_reweighted_source = false; ///< the mean-value weights needed stretch reweighting (§4.1 note)
+  bool stretch_reweighted_target = false;
   double seconds_parameterization = 0; ///< §4.1, both meshes
   double seconds_smoothing = 0;        ///< §4.2, both meshes
   double seconds_certificate = 0;
@@ -109,19 +110,34 @@ public:
     const auto t1 = clock::now();
 
     // §4.1: mean-value parameterization of every patch onto its base triangle.
-    bool* fallback[2] = {&stats_.uniform_fallback_source, &stats_.uniform_fallback_target};
+    bool* fallback[2] = {&stats_.stretch_reweighted_source, &stats_.stretch_reweighted_target};
+    const unsigned max_stretch_rounds = 12;
     for (int k = 0; k < 2; ++k) {
       P_[k].base = &base_;
       P_[k].mesh = &B_.side[k];
       P_[k].initialize(work_tri[k], B_.path_ends, false);
-      if (!P_[k].certify().valid) { // numerically too skewed weights: Tutte's uniform weights are safe
+      Bijectivity_certificate c = P_[k].certify();
+      // A long protrusion inside a patch is squeezed exponentially by any convex-combination map, until its
+      // vertices collapse below double precision. Dividing the weights by the local stretch and solving again
+      // (Yoshizawa et al. 2004) spreads it out while the weights stay positive, so the map stays one-to-one.
+      std::vector<double> factor(B_.side[k].m.number_of_vertices(), 1.0);
+      for (unsigned round = 0; !c.valid && round < max_stretch_rounds; ++round) {
         *fallback[k] = true;
-        P_[k].initialize(work_tri[k], B_.path_ends, true);
-        Bijectivity_certificate c = P_[k].certify();
-        if (!c.valid)
-          throw Algorithm_error(std::string(k ? "target" : "source") +
-                                " mean-value parameterization is not one-to-one: " + c.message);
+        std::vector<double> sigma = P_[k].vertex_stretch();
+        double mean = 0;
+        for (double x : sigma) mean += x;
+        mean /= std::max<std::size_t>(1, sigma.size());
+        for (std::size_t i = 0; i < factor.size(); ++i) factor[i] /= std::max(sigma[i] / mean, 1e-3);
+        double fmean = 0;
+        for (double x : factor) fmean += x;
+        fmean /= std::max<std::size_t>(1, factor.size());
+        for (double& x : factor) x /= fmean;
+        P_[k].initialize(work_tri[k], B_.path_ends, false, &factor);
+        c = P_[k].certify();
       }
+      if (!c.valid)
+        throw Algorithm_error(std::string(k ? "target" : "source") +
+                              " initial parameterization is not one-to-one: " + c.message);
     }
     const auto t2 = clock::now();
     locator_[1].build(P_[1]);
@@ -135,13 +151,40 @@ public:
     const auto t3 = clock::now();
     if (smooth) {
       auto weights = choose_parameter(get_parameter(np_source, internal_np::smoothing_weights_t()), Mean_value_weights());
-      Smoothing_report* rep[2] = {&stats_.smoothing_source, &stats_.smoothing_target};
-      for (int k = 0; k < 2; ++k) {
-        auto w = weights;
-        w.prepare(B_.side[k].m);
-        internal::Local_smoother<decltype(w)> smoother(P_[k], w);
-        *rep[k] = smoother.run(so);
+      auto ws = weights, wt = weights;
+      ws.prepare(B_.side[0].m);
+      wt.prepare(B_.side[1].m);
+      internal::Local_smoother<decltype(ws)> smooth_s(P_[0], ws);
+      internal::Local_smoother<decltype(wt)> smooth_t(P_[1], wt);
+      // Smoothing in rounds; F's angular distortion is measured after each round and the best state kept.
+      // The averaging's fixed point is a harmonic-like map with point constraints at the features, which can
+      // be worse than an intermediate state: stop after `patience` rounds without improvement.
+      std::array<std::vector<Base_location>, 2> best{P_[0].loc, P_[1].loc};
+      Distortion best_d = stats_.distortion_initial;
+      unsigned bad = 0, done = 0;
+      const unsigned per_round = 5, patience = 2;
+      while (done < so.max_iterations) {
+        double moved = 0;
+        for (unsigned i = 0; i < per_round && done < so.max_iterations; ++i, ++done) {
+          stats_.smoothing_source.last_max_move = smooth_s.pass(stats_.smoothing_source);
+          stats_.smoothing_target.last_max_move = smooth_t.pass(stats_.smoothing_target);
+          moved = std::max(stats_.smoothing_source.last_max_move, stats_.smoothing_target.last_max_move);
+          stats_.smoothing_source.iterations = stats_.smoothing_target.iterations = done + 1;
+        }
+        locator_[1].build(P_[1]);
+        Distortion d = measure_distortion();
+        if (d.angular < best_d.angular) {
+          best_d = d;
+          best = {P_[0].loc, P_[1].loc};
+          stats_.smoothing_best_iteration = done;
+          bad = 0;
+        } else if (++bad >= patience) {
+          break;
+        }
+        if (moved < so.tolerance) break;
       }
+      P_[0].loc = std::move(best[0]);
+      P_[1].loc = std::move(best[1]);
     }
     const auto t4 = clock::now();
     for (int k = 0; k < 2; ++k) {

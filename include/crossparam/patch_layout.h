@@ -81,6 +81,8 @@ void make_work_mesh(const TriangleMesh& tm, VertexPointMap vpm, Layout_mesh& out
   double diag = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                           (hi[2] - lo[2]) * (hi[2] - lo[2]));
   if (!(diag > 0) || !std::isfinite(diag)) throw Input_error("mesh has a degenerate bounding box");
+  out.center = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
+  out.scale = diag;
   for (WV v : out.m.vertices()) {
     const Point_3& p = out.m.point(v);
     out.m.point(v) = Point_3((p.x() - 0.5 * (lo[0] + hi[0])) / diag, (p.y() - 0.5 * (lo[1] + hi[1])) / diag,

@@ -69,7 +69,9 @@ struct Base_parameterization {
   /// LU factorization per patch solved for both coordinates. `face_tri` is the base triangle of each face
   /// (the patch labels of the layout); `path_ends` the features of each path id. With `uniform` the weights
   /// are all 1 (Tutte), a fallback when mean-value weights are numerically too skewed.
-  void initialize(const std::vector<int>& face_tri, const std::vector<std::array<int, 2>>& path_ends, bool uniform) {
+  /// `vertex_factor`, if given, multiplies the weight of every edge pointing to a vertex (stretch reweighting).
+  void initialize(const std::vector<int>& face_tri, const std::vector<std::array<int, 2>>& path_ends, bool uniform,
+                  const std::vector<double>* vertex_factor = nullptr) {
     const Work_mesh& m = mesh->m;
     const Base_mesh& B = *base;
     loc.assign(m.number_of_vertices(), Base_location{});
@@ -135,8 +137,9 @@ struct Base_parameterization {
         double sum = 0;
         for (WH h : CGAL::halfedges_around_source(v, m)) {
           double w = uniform ? 1.0 : mean_value_weight(m, h, fallback);
-          sum += w;
           WV u = m.target(h);
+          if (vertex_factor) w *= (*vertex_factor)[u];
+          sum += w;
           if (row[u] >= 0) {
             trip.emplace_back(r, row[u], -w);
           } else {
@@ -164,6 +167,41 @@ struct Base_parameterization {
         loc[vs[r]].b = B.frame_barycentric(int(t), Point_2(x(r, 0), x(r, 1)));
       }
     }
+  }
+
+  /// Per-vertex L2 stretch (Sander et al. 2001) of the map from the base frames back to the mesh: large where
+  /// the parameterization squeezes the surface. Only meaningful while every face lies in one base triangle.
+  std::vector<double> vertex_stretch() const {
+    const Work_mesh& m = mesh->m;
+    std::vector<double> num(m.number_of_vertices(), 0), den(m.number_of_vertices(), 0);
+    const double cap = 1e8;
+    for (WF f : m.faces()) {
+      WH h = m.halfedge(f);
+      WV v[3] = {m.source(h), m.target(h), m.target(m.next(h))};
+      std::array<const Base_location*, 3> ls{&loc[v[0]], &loc[v[1]], &loc[v[2]]};
+      std::array<Point_2, 3> q;
+      int c, n;
+      double sigma2 = cap * cap;
+      const Point_3 &p1 = m.point(v[0]), &p2 = m.point(v[1]), &p3 = m.point(v[2]);
+      const double a3 = std::sqrt(CGAL::squared_area(p1, p2, p3));
+      if (base->canonical_frame(ls, c, n, q)) {
+        const double s1 = q[0].x(), t1 = q[0].y(), s2 = q[1].x(), t2 = q[1].y(), s3 = q[2].x(), t3 = q[2].y();
+        const double A = ((s2 - s1) * (t3 - t1) - (s3 - s1) * (t2 - t1)) / 2;
+        if (A > 0) {
+          Kernel::Vector_3 Ss = ((p1 - CGAL::ORIGIN) * (t2 - t3) + (p2 - CGAL::ORIGIN) * (t3 - t1) + (p3 - CGAL::ORIGIN) * (t1 - t2)) / (2 * A);
+          Kernel::Vector_3 St = ((p1 - CGAL::ORIGIN) * (s3 - s2) + (p2 - CGAL::ORIGIN) * (s1 - s3) + (p3 - CGAL::ORIGIN) * (s2 - s1)) / (2 * A);
+          sigma2 = std::min(cap * cap, (Ss.squared_length() + St.squared_length()) / 2);
+        }
+      }
+      for (WV x : v) {
+        num[x] += a3 * sigma2;
+        den[x] += a3;
+      }
+    }
+    std::vector<double> out(m.number_of_vertices(), 1.0);
+    for (std::size_t i = 0; i < out.size(); ++i)
+      out[i] = den[i] > 0 ? std::sqrt(num[i] / den[i]) : 1.0;
+    return out;
   }
 
   /// Proves with exact predicates that the map from the mesh to the base mesh is one-to-one: every face is

@@ -159,6 +159,9 @@ public:
     bool dead = false;
   };
 
+  /// Cost of a candidate pair: PathMatch takes the cheapest first (paper: |s| + |t|).
+  double pair_cost(double ls, double lt) const { return ls + lt; }
+
   void path_match() {
     const int n = int(nf());
     std::vector<std::vector<Halfedge_path>> ps(n), pt(n);
@@ -171,7 +174,7 @@ public:
     std::priority_queue<QE, std::vector<QE>, std::greater<QE>> q;
     auto push = [&](std::size_t i) {
       Pair_state& p = pairs[i];
-      q.push({side[0].path_length(p.s) + side[1].path_length(p.t), i, p.version});
+      q.push({pair_cost(side[0].path_length(p.s), side[1].path_length(p.t)), i, p.version});
     };
     for (int a = 0; a < n; ++a)
       for (int b = a + 1; b < n; ++b) {

@@ -81,6 +81,13 @@ public:
   std::vector<Halfedge_path> paths;          ///< per path id (empty once a path is removed)
   std::size_t n_original_vertices = 0;
   std::size_t n_original_faces = 0;
+  /// Working coordinates are (p - center) / scale: a unit bounding-box diagonal whatever the input scale.
+  std::array<double, 3> center{{0, 0, 0}};
+  double scale = 1;
+  /// A working point back in input coordinates.
+  std::array<double, 3> input_point(const Point_3& p) const {
+    return {p.x() * scale + center[0], p.y() * scale + center[1], p.z() * scale + center[2]};
+  }
   /// Original face of every face: faces keep their index, split faces inherit it.
   Work_mesh::Property_map<WF, int> forig;
   /// Corners of each original face in the user's order (file order), as vertex indices.

@@ -1,0 +1,210 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Cross-parameterization (paper §4): certificate, exact features, distortion lowered by smoothing, round
+// trips, generic mesh types; accuracy against ground truth on the ../shared/bench cases.
+#include <crossparam/cross_parameterization.h>
+#include <crossparam/io.h>
+#include <crossparam/shapes.h>
+
+#include <CGAL/Polygon_mesh_processing/locate.h>
+#include <CGAL/Polygon_mesh_processing/measure.h>
+#include <CGAL/Polyhedron_3.h>
+#include <CGAL/Polyhedron_items_with_id_3.h>
+#include <CGAL/boost/graph/copy_face_graph.h>
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+using namespace crossparam;
+namespace fs = std::filesystem;
+namespace PMP = CGAL::Polygon_mesh_processing;
+using Map = Cross_parameterization<Surface_mesh, Surface_mesh>;
+
+namespace {
+
+/// Everything every map must satisfy, whatever the input.
+template <class CP>
+void expect_map_invariants(const CP& cp, const Feature_correspondence& f) {
+  for (int side = 0; side < 2; ++side) {
+    const Bijectivity_certificate& c = cp.certificate(side);
+    EXPECT_TRUE(c.valid) << c.message;
+    EXPECT_EQ(c.not_positive, 0u);
+    EXPECT_EQ(c.not_in_a_chart, 0u);
+    EXPECT_EQ(c.coverage, 1u);
+  }
+  const auto& S = cp.statistics();
+  EXPECT_LT(S.distortion.angular, S.distortion_initial.angular) << "smoothing must lower the angular distortion";
+  EXPECT_LT(S.distortion.l2_stretch, S.distortion_initial.l2_stretch) << "smoothing must lower the L2 stretch";
+  // Every feature maps exactly onto its partner (and back), reported against the input meshes.
+  const auto& W = cp.work();
+  for (std::size_t k = 0; k < f.size(); ++k) {
+    Input_location l = cp.source_vertex_to_target_input(f[k].source);
+    const auto& T = W.side[1];
+    double at = 0;
+    for (int i = 0; i < 3; ++i)
+      if (T.orig_tri[l.face][i] == f[k].target) at = l.b[i];
+    EXPECT_EQ(at, 1.0) << "feature " << k;
+    Input_location r = cp.target_vertex_to_source_input(f[k].target);
+    double back = 0;
+    for (int i = 0; i < 3; ++i)
+      if (W.side[0].orig_tri[r.face][i] == f[k].source) back = r.b[i];
+    EXPECT_EQ(back, 1.0) << "feature " << k << " (inverse)";
+  }
+}
+
+/// Source vertices mapped to the target and back land where they started (Face_location API).
+double max_round_trip_error(const Map& cp, const Surface_mesh& s, std::size_t samples) {
+  double worst = 0, mean_edge = 0;
+  for (auto e : s.edges()) mean_edge += std::sqrt(CGAL::squared_distance(s.point(s.source(s.halfedge(e))), s.point(s.target(s.halfedge(e)))));
+  mean_edge /= double(s.number_of_edges());
+  const std::size_t step = std::max<std::size_t>(1, s.number_of_faces() / samples);
+  std::size_t i = 0;
+  for (auto f : s.faces()) {
+    if (i++ % step) continue;
+    Map::Source_location p{f, {{0.2, 0.3, 0.5}}};
+    Map::Target_location q = cp.to_target(p);
+    Map::Source_location r = cp.to_source(q);
+    double d = std::sqrt(CGAL::squared_distance(PMP::construct_point(p, s), PMP::construct_point(r, s)));
+    worst = std::max(worst, d / mean_edge);
+  }
+  return worst;
+}
+
+} // namespace
+
+TEST(Map, GeneratedPairs) {
+  for (unsigned seed : {101u, 202u, 303u}) {
+    Surface_mesh a = shapes::make_deformed_sphere(seed, 1500, true), b = shapes::make_deformed_sphere(seed + 7, 1200, true);
+    Feature_correspondence f = shapes::random_features(a, b, 8 + seed % 9, seed + 1, false);
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    Map cp(a, b, f);
+    expect_map_invariants(cp, f);
+    EXPECT_LT(max_round_trip_error(cp, a, 300), 1e-6);
+  }
+}
+
+TEST(Map, Creatures) {
+  Surface_mesh a = shapes::creature_a(), b = shapes::creature_b();
+  Feature_correspondence f = shapes::creature_features(a, b);
+  Map cp(a, b, f);
+  expect_map_invariants(cp, f);
+  EXPECT_LT(max_round_trip_error(cp, a, 500), 1e-6);
+  EXPECT_LT(cp.statistics().distortion.l2_stretch, 1.5);
+}
+
+// A Polyhedron_3 source with Face_location queries.
+TEST(Map, PolyhedronSource) {
+  using Polyhedron = CGAL::Polyhedron_3<Kernel, CGAL::Polyhedron_items_with_id_3>;
+  Surface_mesh a_sm = shapes::make_deformed_sphere(9, 900, true), b = shapes::make_deformed_sphere(10, 800, true);
+  Feature_correspondence f = shapes::random_features(a_sm, b, 10, 11, false);
+  Polyhedron a;
+  Polygon_soup soup;
+  for (auto v : a_sm.vertices()) soup.points.push_back({a_sm.point(v).x(), a_sm.point(v).y(), a_sm.point(v).z()});
+  for (auto fc : a_sm.faces()) {
+    soup.polygons.emplace_back();
+    for (auto v : CGAL::vertices_around_face(a_sm.halfedge(fc), a_sm)) soup.polygons.back().push_back(std::size_t(v));
+  }
+  soup_to_triangle_mesh(soup, a, "polyhedron");
+  Cross_parameterization<Polyhedron, Surface_mesh> cp(a, b, f);
+  EXPECT_TRUE(cp.certificate(0).valid);
+  EXPECT_TRUE(cp.certificate(1).valid);
+  std::size_t checked = 0;
+  for (auto fh : faces(a)) {
+    if (checked++ > 200) break;
+    decltype(cp)::Source_location p{fh, {{1.0 / 3, 1.0 / 3, 1.0 / 3}}};
+    auto q = cp.to_target(p);
+    auto r = cp.to_source(q);
+    EXPECT_LT(std::sqrt(CGAL::squared_distance(PMP::construct_point(p, a), PMP::construct_point(r, a))), 1e-6);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Bench cases with ground truth.
+// ---------------------------------------------------------------------------------------------------------
+namespace {
+
+struct Accuracy {
+  double mean = 0, median = 0, max = 0;
+  std::size_t n = 0;
+};
+
+Accuracy score(std::vector<double> e) {
+  Accuracy a;
+  a.n = e.size();
+  if (e.empty()) return a;
+  for (double x : e) a.mean += x;
+  a.mean /= double(e.size());
+  std::sort(e.begin(), e.end());
+  a.median = e[e.size() / 2];
+  a.max = e.back();
+  return a;
+}
+
+class BenchMap : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(BenchMap, CertifiedAndAccurate) {
+  const fs::path dir = fs::path(CROSSPARAM_SHARED_DIR) / "bench" / GetParam();
+  if (!fs::exists(dir / "source.off")) GTEST_SKIP() << "shared data not found at " << dir << ": skipping";
+  Surface_mesh s, t;
+  read_triangle_mesh((dir / "source.off").string(), s);
+  read_triangle_mesh((dir / "target.off").string(), t);
+  const Surface_mesh t0 = t;
+  Feature_correspondence f = read_feature_pairs((dir / "features.txt").string(), s.number_of_vertices(), t.number_of_vertices());
+  const std::size_t ns = s.number_of_vertices();
+  Map cp(s, t, f);
+  expect_map_invariants(cp, f);
+  EXPECT_LT(max_round_trip_error(cp, s, 400), 1e-6);
+
+  // Accuracy: |F(v) - truth| / sqrt(target area).
+  const double norm = std::sqrt(PMP::area(t0));
+  std::vector<std::array<Surface_mesh::Vertex_index, 3>> tri;
+  for (auto fc : t0.faces()) {
+    std::array<Surface_mesh::Vertex_index, 3> a;
+    int i = 0;
+    for (auto v : CGAL::vertices_around_face(t0.halfedge(fc), t0)) a[i++] = v;
+    tri.push_back(a);
+  }
+  auto image = [&](std::size_t v) {
+    Input_location l = cp.source_vertex_to_target_input(v);
+    double x = 0, y = 0, z = 0;
+    for (int i = 0; i < 3; ++i) {
+      const Point_3& p = t0.point(tri[l.face][i]);
+      x += l.b[i] * p.x(), y += l.b[i] * p.y(), z += l.b[i] * p.z();
+    }
+    return Point_3(x, y, z);
+  };
+  std::vector<double> err;
+  std::ifstream gt(dir / "truth" / "gt_points.txt");
+  if (gt) {
+    for (std::size_t v = 0; v < ns; ++v) {
+      double x, y, z;
+      ASSERT_TRUE(bool(gt >> x >> y >> z));
+      err.push_back(std::sqrt(CGAL::squared_distance(image(v), Point_3(x, y, z))) / norm);
+    }
+  } else {
+    std::ifstream es(dir / "truth" / "eval_source.txt"), et(dir / "truth" / "eval_target.txt");
+    std::size_t a, b;
+    while (es >> a && et >> b)
+      err.push_back(std::sqrt(CGAL::squared_distance(image(a), t0.point(Surface_mesh::Vertex_index(Surface_mesh::size_type(b))))) / norm);
+  }
+  Accuracy acc = score(err);
+  ASSERT_GT(acc.n, 0u);
+  RecordProperty("accuracy_mean", std::to_string(acc.mean));
+  std::cout << "[ accuracy ] " << GetParam() << ": mean " << acc.mean << " median " << acc.median << " max " << acc.max
+            << " over " << acc.n << " points; E_ang " << cp.statistics().distortion_initial.angular << " -> "
+            << cp.statistics().distortion.angular << ", L2 " << cp.statistics().distortion_initial.l2_stretch << " -> "
+            << cp.statistics().distortion.l2_stretch << "\n";
+  // Nearest-point baselines from the issue: 0.074 (wolf), 0.128 (horse). Bounds are today's figures with a
+  // small margin, so that a regression fails; the aim is below 0.03.
+  if (GetParam() == "wolf0_wolf2") EXPECT_LT(acc.mean, 0.055);
+  if (GetParam() == "horse0_horse7") EXPECT_LT(acc.mean, 0.040);
+  if (!gt) EXPECT_LT(acc.mean, 0.25);
+}
+
+INSTANTIATE_TEST_SUITE_P(Shared, BenchMap,
+                         ::testing::Values("horse0_horse7", "lion_cat", "shrec_381_382", "shrec_383_385",
+                                           "wolf0_wolf2", "yang_cat_horse"),
+                         [](const auto& info) { return info.param; });
+
+} // namespace
