@@ -46,6 +46,8 @@ const char* const usage_text =
     "  --iterations N    smoothing passes at most (map; default 200)\n"
     "  --no-smoothing    skip the smoothing of section 4.2 (map)\n"
     "  --png             also render pictures of the results (needs POV-Ray: apt-get install povray)\n"
+    "  --up X,Y,Z        the models' up direction in the pictures (default 0,0,1)\n"
+    "  --view X,Y,Z      direction from the model towards the camera (default 1,-1.6,0.6)\n"
     "  --quiet           print nothing but errors\n"
     "  -h, --help        this text\n"
     "\n"
@@ -65,10 +67,23 @@ struct Options {
   bool png = false;
   bool smoothing = true;
   unsigned iterations = 200;
+  Render_options render;
 };
+
+std::array<double, 3> parse_vector(const std::string& name, const std::string& v) {
+  std::array<double, 3> out{};
+  std::istringstream is(v);
+  char c1 = 0, c2 = 0;
+  if (!(is >> out[0] >> c1 >> out[1] >> c2 >> out[2]) || c1 != ',' || c2 != ',' || !is.eof() ||
+      !(out[0] * out[0] + out[1] * out[1] + out[2] * out[2] > 0))
+    throw Usage_error(name + " needs three numbers X,Y,Z, not all zero");
+  return out;
+}
 
 Options parse(int argc, char** argv) {
   Options o;
+  o.render.up = {0, 0, 1};
+  o.render.view_direction = {1, -1.6, 0.6};
   if (argc < 2) throw Usage_error("missing command");
   o.command = argv[1];
   for (int i = 2; i < argc; ++i) {
@@ -82,6 +97,8 @@ Options parse(int argc, char** argv) {
     else if (a == "--no-flips") o.flips = false;
     else if (a == "--png") o.png = true;
     else if (a == "--no-smoothing") o.smoothing = false;
+    else if (a == "--up") o.render.up = parse_vector(a, value());
+    else if (a == "--view") o.render.view_direction = parse_vector(a, value());
     else if (a == "--iterations") {
       std::string v = value();
       char* end = nullptr;
@@ -172,7 +189,7 @@ void write_layout(const Options& o, const Surface_mesh& s, const Surface_mesh& t
     write_ply_colored(out(std::string(names[k]) + "_patches.ply"), pts, tris, colors);
     if (o.png) {
       Render_mesh rm{pts, tris, colors, {}};
-      render_png(rm, out(std::string(names[k]) + "_patches.png"));
+      render_png(rm, out(std::string(names[k]) + "_patches.png"), o.render);
     }
   }
   write_file_atomically(out("base_mesh.txt"), [&](std::ostream& os) {
@@ -307,7 +324,7 @@ void write_checkerboard(const Options& o, const Map& cp) {
     });
     if (o.png) {
       for (auto v : L.m.vertices()) picture.points.push_back(L.input_point(L.m.point(v)));
-      render_png(picture, out(side == 0 ? "source_checker.png" : "target_checker.png"));
+      render_png(picture, out(side == 0 ? "source_checker.png" : "target_checker.png"), o.render);
     }
   }
 }
