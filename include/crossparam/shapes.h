@@ -187,6 +187,7 @@ struct Creature_geometry {
   std::array<Round_cone, 4> legs;  // front left, front right, hind left, hind right
   std::vector<Round_cone> tail;
   double blend = 0.1;
+  double tail_smooth = 0.05;
   std::vector<V3> anchors;  // in creature_feature_names() order
   double bounding_radius = 1;
 
@@ -235,6 +236,7 @@ struct Creature_geometry {
       r = r2;
     }
     const V3 tail_tip = q + p.tail_radius_tip * dir;
+    tail_smooth = 0.5 * std::min(p.tail_radius_base, p.tail_radius_tip);
     // Feature anchors (points on or near the surface of the corresponding part).
     const V3 nose = snout_end + p.snout_radius_tip * snout_dir;
     const V3 head_top = head_center + V3{0.0, 0.0, head_radii.z};
@@ -266,11 +268,14 @@ struct Creature_geometry {
   /// Signed field: negative inside, positive outside (approximately a distance).
   double operator()(V3 p) const {
     double f = sd_ellipsoid(p, V3{}, body_radii);
-    double legs_f = std::numeric_limits<double>::infinity();
-    for (const auto& l : legs) legs_f = std::min(legs_f, sd_round_cone(p, l.a, l.b, l.ra, l.rb));
+    // Every union is smooth: a crease (hard min) on the surface makes the mesher over-refine along it.
+    double legs_f = sd_round_cone(p, legs[0].a, legs[0].b, legs[0].ra, legs[0].rb);
+    for (std::size_t i = 1; i < legs.size(); ++i)
+      legs_f = smin(legs_f, sd_round_cone(p, legs[i].a, legs[i].b, legs[i].ra, legs[i].rb), 0.5 * blend);
     f = smin(f, legs_f, blend);
-    double tail_f = std::numeric_limits<double>::infinity();
-    for (const auto& t : tail) tail_f = std::min(tail_f, sd_round_cone(p, t.a, t.b, t.ra, t.rb));
+    double tail_f = sd_round_cone(p, tail[0].a, tail[0].b, tail[0].ra, tail[0].rb);
+    for (std::size_t i = 1; i < tail.size(); ++i)
+      tail_f = smin(tail_f, sd_round_cone(p, tail[i].a, tail[i].b, tail[i].ra, tail[i].rb), tail_smooth);
     f = smin(f, tail_f, 0.6 * blend);
     double head_f = smin(sd_ellipsoid(p, head_center, head_radii),
                          sd_round_cone(p, snout.a, snout.b, snout.ra, snout.rb), 0.6 * blend);
@@ -512,6 +517,7 @@ inline Surface_mesh make_creature(const Creature_params& params) {
     const V3 dirs[14] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {s, s, s},
                          {s, s, -s}, {s, -s, s}, {s, -s, -s}, {-s, s, s}, {-s, s, -s}, {-s, -s, s}, {-s, -s, -s}};
     Tr::Vertex_handle hint;
+    std::vector<V3> seeds;
     for (const V3& c : geom.part_centres()) {
       if (!(geom(c) < 0)) continue;
       for (const V3& d : dirs) {
@@ -532,6 +538,11 @@ inline Surface_mesh make_creature(const Creature_params& params) {
           (geom(c + mid * d) > 0 ? hi : lo) = mid;
         }
         const V3 p = c + (0.5 * (lo + hi)) * d;
+        // Seeds closer than the target facet size would leave tiny edges that the refinement grades around.
+        bool far = true;
+        for (const V3& q : seeds) far = far && norm(p - q) > params.facet_size;
+        if (!far) continue;
+        seeds.push_back(p);
         hint = tr.insert(Tr_point(p.x, p.y, p.z), hint == Tr::Vertex_handle() ? Tr::Cell_handle() : hint->cell());
       }
     }
@@ -663,17 +674,29 @@ inline Surface_mesh make_deformed_sphere(unsigned seed, std::size_t target_verti
     for (const V3& p : kept) pts.emplace_back(p.x, p.y, p.z);
     Surface_mesh hull;
     CGAL::convex_hull_3(pts.begin(), pts.end(), hull);
+    // convex_hull_3 returns vertices and faces in an order that varies between runs: number the hull
+    // vertices by the input order of their points and sort the faces, so the result is deterministic.
+    std::map<Point_3, std::size_t> input_index;
+    for (std::size_t i = 0; i < pts.size(); ++i) input_index.emplace(pts[i], i);
+    std::vector<std::size_t> used;
+    for (auto v : hull.vertices()) used.push_back(input_index.at(hull.point(v)));
+    std::sort(used.begin(), used.end());
+    std::map<std::size_t, std::size_t> renumber;
     unit.clear();
-    tris.clear();
-    std::map<Surface_mesh::Vertex_index, std::size_t> idx;
-    for (auto v : hull.vertices()) {
-      idx.emplace(v, unit.size());
-      unit.push_back(to_v3(hull.point(v)));
+    for (std::size_t i : used) {
+      renumber.emplace(i, unit.size());
+      unit.push_back(to_v3(pts[i]));
     }
+    tris.clear();
     for (auto f : hull.faces()) {
       auto hh = hull.halfedge(f);
-      tris.push_back({idx.at(hull.source(hh)), idx.at(hull.target(hh)), idx.at(hull.target(hull.next(hh)))});
+      std::array<std::size_t, 3> t{renumber.at(input_index.at(hull.point(hull.source(hh)))),
+                                   renumber.at(input_index.at(hull.point(hull.target(hh)))),
+                                   renumber.at(input_index.at(hull.point(hull.target(hull.next(hh)))))};
+      std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+      tris.push_back(t);
     }
+    std::sort(tris.begin(), tris.end());
   }
 
   // Radial deformation.
