@@ -14,6 +14,7 @@ namespace internal_np {
 struct edge_path_map_t {};      ///< edge -> int: id of the layout path on the edge, or -1
 struct vertex_feature_map_t {}; ///< vertex -> int: feature index of the vertex, or -1
 struct apply_path_flips_t {};   ///< bool: run the path flips of §3.3 (default true)
+struct consistent_paths_t {};   ///< bool: descriptor-guided consistent matching paths (default true)
 } // namespace internal_np
 
 namespace parameters {
@@ -33,6 +34,9 @@ CROSSPARAM_ADD_NAMED_PARAMETER(edge_path_map)
 CROSSPARAM_ADD_NAMED_PARAMETER(vertex_feature_map)
 /// \brief `bool`, default `true`: whether to improve base-mesh valences by path flips (paper §3.3).
 CROSSPARAM_ADD_NAMED_PARAMETER(apply_path_flips)
+/// \brief `bool`, default `true`: trace each matching path pair so that the two paths agree in geodesic
+/// distances to the features (an addition to the paper; see the user manual).
+CROSSPARAM_ADD_NAMED_PARAMETER(consistent_paths)
 
 #undef CROSSPARAM_ADD_NAMED_PARAMETER
 

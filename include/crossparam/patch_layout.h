@@ -224,7 +224,9 @@ void write_layout_outputs(TriangleMesh& tm, const NamedParameters& np, const Lay
 ///   - `face_patch_map` (output, face -> integer): base-triangle id of each face,
 ///   - `crossparam::parameters::edge_path_map` (output, edge -> int): path id of each edge, -1 off paths,
 ///   - `crossparam::parameters::vertex_feature_map` (output, vertex -> int): feature id, -1 elsewhere,
-///   - `crossparam::parameters::apply_path_flips` (bool, default true; read from `np_source`).
+///   - `crossparam::parameters::apply_path_flips` (bool, default true; read from `np_source`),
+///   - `crossparam::parameters::consistent_paths` (bool, default true; read from `np_source`): trace
+///     matching paths that agree in geodesic distances to the features (an addition to the paper).
 /// \pre both meshes closed, manifold, connected triangle meshes of genus 0 with finite coordinates;
 ///      features distinct and in range. Each is checked: violations throw `Input_error` (or `Feature_error`,
 ///      `Incompatible_inputs_error`) naming the problem.
@@ -259,6 +261,7 @@ Patch_layout compute_patch_layouts_impl(SourceMesh& tm_s, TargetMesh& tm_t, cons
   auto vpm_t = choose_parameter(get_parameter(np_target, CGAL::internal_np::vertex_point),
                                 get_property_map(CGAL::vertex_point, tm_t));
   const bool flips = choose_parameter(get_parameter(np_source, internal_np::apply_path_flips_t()), true);
+  const bool consistent = choose_parameter(get_parameter(np_source, internal_np::consistent_paths_t()), true);
 
   // Contracts first: every precondition a user can violate is checked and named.
   Mesh_check_report rs = check_triangle_mesh(tm_s, "source mesh");
@@ -274,6 +277,7 @@ Patch_layout compute_patch_layouts_impl(SourceMesh& tm_s, TargetMesh& tm_t, cons
   validate_feature_pairs(features, ns, nt, "feature correspondence");
 
   B.do_flips = flips;
+  B.consistent_paths = consistent;
   make_work_mesh(tm_s, vpm_s, B.side[0]);
   make_work_mesh(tm_t, vpm_t, B.side[1]);
   for (std::size_t k = 0; k < features.size(); ++k) {

@@ -35,6 +35,7 @@ struct Layout_statistics {
   std::size_t splits_source = 0;          ///< edge splits on the source
   std::size_t splits_target = 0;          ///< edge splits on the target
   std::size_t flips = 0;                  ///< path flips (§3.3)
+  std::size_t guided_paths = 0;           ///< pairs replaced by a more consistent descriptor-guided variant
   std::size_t adjacency_splits_source = 0; ///< splits of §4.2 (edges joining two boundary vertices of a patch)
   std::size_t adjacency_splits_target = 0;
   std::size_t rejected_blocking = 0;      ///< candidate pairs dropped by the blocking test
@@ -56,6 +57,13 @@ public:
   std::vector<int> connection;               ///< nf x nf: path id joining two features, or no_path
   Layout_statistics stats;
   bool do_flips = true;
+  /// Consistent matching paths (an addition to the paper): every matching pair is also traced with
+  /// descriptor guidance on either mesh, each path following the other's geodesic-distance descriptors, and
+  /// the most consistent of the three pairs is kept. Where two routes around a featureless protrusion have
+  /// nearly equal lengths, shortest paths alone pick sides independently on the two meshes.
+  bool consistent_paths = true;
+  double guide_weight = 20;        ///< edge cost = length * (1 + guide_weight * descriptor distance)
+  std::size_t guide_samples = 16;  ///< descriptors of at most this many vertices of the guiding path
   std::size_t max_flip_splits = 2; ///< a flip may split at most this many edges on each mesh
 
   std::size_t nf() const { return degree.size(); }
@@ -67,6 +75,10 @@ public:
     degree.assign(side[0].feature_vertex.size(), 0);
     connection.assign(nf() * nf(), no_path);
     stats.features = nf();
+    if (consistent_paths) {
+      side[0].compute_descriptors();
+      side[1].compute_descriptors();
+    }
     path_match();
     auto t1 = clock::now();
     complete_with_face_paths();
@@ -135,6 +147,39 @@ public:
   std::pair<int, int> corners(int s, const Halfedge_path& hp) const {
     const Layout_mesh& L = side[s];
     return {L.corner_of_outgoing(hp.front()), L.corner_of_outgoing(L.m.opposite(hp.back()))};
+  }
+
+  /// Descriptor disagreement of two matching paths: symmetric mean distance from each path vertex's
+  /// descriptor to the nearest descriptor on the other path, RMS per feature (unit-area scale).
+  double consistency(const Halfedge_path& hs, const Halfedge_path& ht) const {
+    auto ds = side[0].path_descriptors(hs), dt = side[1].path_descriptors(ht);
+    auto one = [&](const Layout_mesh& L, const Halfedge_path& hp, const std::vector<std::vector<float>>& ref) {
+      double t = L.descriptor_distance(L.m.source(hp.front()), ref);
+      for (WH h : hp) t += L.descriptor_distance(L.m.target(h), ref);
+      return t / double(hp.size() + 1);
+    };
+    return 0.5 * (one(side[0], hs, dt) + one(side[1], ht, ds)) / std::sqrt(double(std::max<std::size_t>(1, nf())));
+  }
+
+  /// Tries each path of (hs, ht) retraced under the other's guidance (same sectors) and keeps the most
+  /// consistent of the three pairs.
+  void make_consistent(int a, int b, Halfedge_path& hs, Halfedge_path& ht) {
+    if (!consistent_paths) return;
+    double best = consistency(hs, ht);
+    auto cs = corners(0, hs);
+    auto ds = side[0].path_descriptors(hs, guide_samples), dt = side[1].path_descriptors(ht, guide_samples);
+    Halfedge_path t2 = side[1].shortest_path(a, b, cs.first, cs.second, &ds, guide_weight);
+    Halfedge_path s2 = side[0].shortest_path(a, b, cs.first, cs.second, &dt, guide_weight);
+    bool changed = false;
+    if (!t2.empty()) {
+      double c = consistency(hs, t2);
+      if (c < best) best = c, ht = t2, changed = true;
+    }
+    if (!s2.empty()) {
+      double c = consistency(s2, ht);
+      if (c < best) best = c, hs = s2, changed = true;
+    }
+    stats.guided_paths += changed;
   }
 
   /// The blocking test: whether adding (hs, ht) keeps the two layouts topologically identical, given that
@@ -238,6 +283,7 @@ public:
         requeue();
         continue;
       }
+      make_consistent(p.a, p.b, p.s, p.t);
       if (!non_blocking(p.s, p.t)) {
         ++stats.rejected_blocking;
         p.dead = true;
@@ -340,6 +386,7 @@ public:
     bool fs = false, ft = false;
     Halfedge_path hs = trace(0, a, b, ca, cb, fs);
     Halfedge_path ht = trace(1, a, b, ca, cb, ft);
+    if (!fs && !ft) make_consistent(a, b, hs, ht);
     if (!non_blocking(hs, ht))
       throw Algorithm_error("internal error: a path pair traced inside matching patches splits them differently");
     stats.face_traced_source += fs;

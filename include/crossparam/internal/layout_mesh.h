@@ -94,6 +94,58 @@ public:
   std::vector<std::array<std::size_t, 3>> orig_tri;
   /// Every vertex as a point of the original mesh: original face and barycentrics w.r.t. orig_tri.
   std::vector<std::pair<int, std::array<double, 3>>> vrep;
+  /// Per vertex: approximate geodesic distance (edge-graph Dijkstra, scaled to unit area) to every feature.
+  /// Corresponding points of two similar meshes have similar descriptors (Layout_builder::consistency).
+  std::vector<std::vector<float>> desc;
+
+  void compute_descriptors() {
+    double area = 0;
+    for (WF f : m.faces()) {
+      WH h = m.halfedge(f);
+      area += std::sqrt(CGAL::squared_area(m.point(m.source(h)), m.point(m.target(h)), m.point(m.target(m.next(h)))));
+    }
+    const double sc = area > 0 ? 1.0 / std::sqrt(area) : 1.0;
+    const std::size_t nf = feature_vertex.size();
+    desc.assign(m.number_of_vertices(), std::vector<float>(nf, 0.f));
+    std::vector<double> d(m.number_of_vertices());
+    using QE = std::pair<double, std::uint32_t>;
+    for (std::size_t k = 0; k < nf; ++k) {
+      std::fill(d.begin(), d.end(), HUGE_VAL);
+      std::priority_queue<QE, std::vector<QE>, std::greater<QE>> q;
+      d[feature_vertex[k]] = 0;
+      q.push({0.0, std::uint32_t(feature_vertex[k])});
+      while (!q.empty()) {
+        auto [dd, vi] = q.top();
+        q.pop();
+        WV v(vi);
+        if (dd > d[v]) continue;
+        for (WH h : CGAL::halfedges_around_source(v, m)) {
+          WV w = m.target(h);
+          double nd = dd + edge_length(h);
+          if (nd < d[w]) {
+            d[w] = nd;
+            q.push({nd, std::uint32_t(w)});
+          }
+        }
+      }
+      for (WV v : m.vertices()) desc[v][k] = float(d[v] * sc);
+    }
+  }
+
+  /// Distance from the descriptor of v to the nearest of `ref` (descriptors of a path on the other mesh).
+  double descriptor_distance(WV v, const std::vector<std::vector<float>>& ref) const {
+    double best = HUGE_VAL;
+    const auto& a = desc[v];
+    for (const auto& r : ref) {
+      double s = 0;
+      for (std::size_t k = 0; k < a.size() && s < best; ++k) { // abandon once worse than the best
+        double x = double(a[k]) - double(r[k]);
+        s += x * x;
+      }
+      best = std::min(best, s);
+    }
+    return std::sqrt(best);
+  }
 
   /// `tris`: the original faces in user order (face k = work face k).
   void init(const std::vector<std::array<std::size_t, 3>>& tris) {
@@ -304,8 +356,21 @@ public:
   /// Shortest edge path from feature a to feature b through free vertices, leaving a inside sector
   /// `corner_a` and entering b inside sector `corner_b` (pass any_corner for no constraint).
   static constexpr int any_corner = -2;
-  Halfedge_path shortest_path(int a, int b, int corner_a, int corner_b) const {
+  /// With `guide` (descriptors of the matching path on the other mesh) every edge costs
+  /// length * (1 + guide_weight * descriptor distance of its target): the path most like the other one.
+  Halfedge_path shortest_path(int a, int b, int corner_a, int corner_b,
+                              const std::vector<std::vector<float>>* guide = nullptr, double guide_weight = 0) const {
     WV va = feature_vertex[a], vb = feature_vertex[b];
+    std::vector<double> penalty_cache;
+    if (guide) penalty_cache.assign(m.number_of_vertices(), -1.0);
+    auto cost = [&](WH h) {
+      double l = edge_length(h);
+      if (!guide) return l;
+      WV w = m.target(h);
+      double& c = penalty_cache[w];
+      if (c < 0) c = descriptor_distance(w, *guide);
+      return l * (1 + guide_weight * c);
+    };
     scratch.reset(m.number_of_vertices());
     using QE = std::pair<double, std::uint32_t>;
     std::priority_queue<QE, std::vector<QE>, std::greater<QE>> q;
@@ -317,7 +382,7 @@ public:
       if (path_of(h) != no_path) continue;
       if (corner_a != any_corner && corner_of_outgoing(h) != corner_a) continue;
       WV w = m.target(h);
-      double d = edge_length(h);
+      double d = cost(h);
       if (w == vb) {
         if (!arrival_ok(h)) continue;
       } else if (!is_free(w)) {
@@ -342,7 +407,7 @@ public:
         } else if (!is_free(w)) {
           continue;
         }
-        double nd = d + edge_length(h);
+        double nd = d + cost(h);
         if (nd < scratch.d(w)) {
           scratch.set(w, nd, h);
           q.push({nd, std::uint32_t(w)});
@@ -350,6 +415,16 @@ public:
       }
     }
     return {};
+  }
+
+  /// Descriptors of (at most `max_samples` evenly spaced) vertices of a path.
+  std::vector<std::vector<float>> path_descriptors(const Halfedge_path& hp, std::size_t max_samples = 0) const {
+    const std::size_t n = hp.size() + 1;
+    const std::size_t step = max_samples > 0 && n > max_samples ? (n + max_samples - 1) / max_samples : 1;
+    std::vector<std::vector<float>> out;
+    for (std::size_t i = 0; i < n; i += step) out.push_back(desc[i == 0 ? m.source(hp.front()) : m.target(hp[i - 1])]);
+    out.push_back(desc[m.target(hp.back())]);
+    return out;
   }
 
   // ---- flood fills over faces, not crossing path edges ----
@@ -448,6 +523,12 @@ public:
     }
     WV w = split_edge_and_triangulate(m, m.points(), u, v, p);
     splits.push_back({std::size_t(u), std::size_t(v), std::size_t(w), 0.5});
+    if (!desc.empty()) {
+      std::vector<float> dm(desc[u].size());
+      for (std::size_t k = 0; k < dm.size(); ++k) dm[k] = 0.5f * (desc[u][k] + desc[v][k]);
+      if (desc.size() <= std::size_t(w)) desc.resize(std::size_t(w) + 1);
+      desc[w] = std::move(dm);
+    }
     if (vrep.size() <= std::size_t(w)) vrep.resize(std::size_t(w) + 1);
     vrep[w] = {o, {0.5 * (ru[0] + rv[0]), 0.5 * (ru[1] + rv[1]), 0.5 * (ru[2] + rv[2])}};
     for (WF f : CGAL::faces_around_target(m.halfedge(w), m)) {
