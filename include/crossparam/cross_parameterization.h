@@ -115,7 +115,7 @@ public:
     for (int k = 0; k < 2; ++k) {
       P_[k].base = &base_;
       P_[k].mesh = &B_.side[k];
-      P_[k].initialize(work_tri[k], B_.path_ends, false);
+      P_[k].initialize(work_tri[k], B_.path_ends);
       Bijectivity_certificate c = P_[k].certify();
       // A long protrusion inside a patch is squeezed exponentially by any convex-combination map, until its
       // vertices collapse below double precision. Dividing the weights by the local stretch and solving again
@@ -132,7 +132,7 @@ public:
         for (double x : factor) fmean += x;
         fmean /= std::max<std::size_t>(1, factor.size());
         for (double& x : factor) x /= fmean;
-        P_[k].initialize(work_tri[k], B_.path_ends, false, &factor);
+        P_[k].initialize(work_tri[k], B_.path_ends, &factor);
         c = P_[k].certify();
       }
       if (!c.valid)

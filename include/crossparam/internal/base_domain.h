@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The base domain of paper §4: the base mesh as an abstract surface of equilateral triangles, locations
+// The base domain of paper §4: the base mesh as an abstract surface of planar triangles, locations
 // <base triangle, barycentrics> on it, and the local charts in which maps are evaluated.
 //
 // Geometry. Every base triangle has a planar shape given by its three edge lengths (shared edges have one
@@ -191,8 +191,11 @@ struct Base_mesh {
     return true;
   }
 
-  /// The canonical frame of a set of locations: the lowest base triangle c (and then lowest slot n, -1 first)
-  /// such that every location is in c or in neighbour nb[c][n]. Returns false if no such frame exists.
+  /// The canonical frame of a set of locations: the lowest base triangle c, then the lowest slot n (-1, i.e.
+  /// c alone, first), such that every location is in c or in neighbour nb[c][n], and the straight image stays
+  /// inside c and that neighbour: every segment from a point of c only to a point of the neighbour only crosses
+  /// the line of the shared edge within the edge (exact predicates; the two unfolded triangles need not form
+  /// a convex quadrilateral). Returns false if no such frame exists.
   template <std::size_t N>
   bool canonical_frame(const std::array<const Base_location*, N>& ls, int& c_out, int& n_out,
                        std::array<Point_2, N>& pts) const {
@@ -204,26 +207,37 @@ struct Base_mesh {
     std::sort(cand.begin(), cand.end());
     cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
     std::array<double, 3> bx;
+    std::array<char, N> in_c{}, in_n{};
     for (int c : cand) {
-      // Which neighbour is needed, if any.
-      int need = -1;
-      bool ok = true;
-      for (const Base_location* l : ls) {
-        if (convert(*l, c, bx)) continue;
-        int found = -1;
-        for (int i = 0; i < 3 && found < 0; ++i)
-          if ((need < 0 || need == i) && convert(*l, nb[c][i], bx)) found = i;
-        if (found < 0) {
-          ok = false;
-          break;
-        }
-        need = found;
+      for (std::size_t k = 0; k < N; ++k) in_c[k] = convert(*ls[k], c, bx);
+      bool all_c = true;
+      for (std::size_t k = 0; k < N; ++k) all_c &= bool(in_c[k]);
+      if (all_c) {
+        for (std::size_t k = 0; k < N; ++k) frame_point(c, -1, *ls[k], pts[k]);
+        c_out = c;
+        n_out = -1;
+        return true;
       }
-      if (!ok) continue;
-      for (std::size_t k = 0; k < N; ++k) frame_point(c, need, *ls[k], pts[k]);
-      c_out = c;
-      n_out = need;
-      return true;
+      for (int n = 0; n < 3; ++n) {
+        bool ok = true;
+        for (std::size_t k = 0; k < N && ok; ++k) {
+          in_n[k] = convert(*ls[k], nb[c][n], bx);
+          ok = in_c[k] || in_n[k];
+        }
+        if (!ok) continue;
+        for (std::size_t k = 0; k < N; ++k) frame_point(c, n, *ls[k], pts[k]);
+        const Point_2 &A = q[c][n], &B = q[c][(n + 1) % 3];
+        for (std::size_t i = 0; i < N && ok; ++i)
+          for (std::size_t j = 0; j < N && ok; ++j) {
+            if (!(in_c[i] && !in_n[i] && in_n[j] && !in_c[j])) continue;
+            CGAL::Orientation oa = CGAL::orientation(pts[i], pts[j], A), ob = CGAL::orientation(pts[i], pts[j], B);
+            ok = !(oa == ob && oa != CGAL::ZERO);
+          }
+        if (!ok) continue;
+        c_out = c;
+        n_out = n;
+        return true;
+      }
     }
     return false;
   }

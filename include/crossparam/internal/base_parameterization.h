@@ -67,10 +67,9 @@ struct Base_parameterization {
 
   /// §4.1: boundary by arc length on the base triangle sides, interior by mean-value coordinates, one sparse
   /// LU factorization per patch solved for both coordinates. `face_tri` is the base triangle of each face
-  /// (the patch labels of the layout); `path_ends` the features of each path id. With `uniform` the weights
-  /// are all 1 (Tutte), a fallback when mean-value weights are numerically too skewed.
+  /// (the patch labels of the layout); `path_ends` the features of each path id.
   /// `vertex_factor`, if given, multiplies the weight of every edge pointing to a vertex (stretch reweighting).
-  void initialize(const std::vector<int>& face_tri, const std::vector<std::array<int, 2>>& path_ends, bool uniform,
+  void initialize(const std::vector<int>& face_tri, const std::vector<std::array<int, 2>>& path_ends,
                   const std::vector<double>* vertex_factor = nullptr) {
     const Work_mesh& m = mesh->m;
     const Base_mesh& B = *base;
@@ -136,7 +135,7 @@ struct Base_parameterization {
         WV v = vs[r];
         double sum = 0;
         for (WH h : CGAL::halfedges_around_source(v, m)) {
-          double w = uniform ? 1.0 : mean_value_weight(m, h, fallback);
+          double w = mean_value_weight(m, h, fallback);
           WV u = m.target(h);
           if (vertex_factor) w *= (*vertex_factor)[u];
           sum += w;
