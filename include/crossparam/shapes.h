@@ -17,7 +17,7 @@
 #include <CGAL/Random.h>
 #include <CGAL/Surface_mesh_default_criteria_3.h>
 #include <CGAL/Surface_mesh_default_triangulation_3.h>
-#include <CGAL/convex_hull_3.h>
+#include <CGAL/boost/graph/Euler_operations.h>
 #include <CGAL/make_surface_mesh.h>
 
 #include <algorithm>
@@ -71,8 +71,8 @@ struct Creature_params {
   double blend = 0.12;  ///< smooth-union radius between body parts
   // Mesher criteria (CGAL::Surface_mesh_default_criteria_3).
   double facet_angle_deg = 30.0;   ///< lower bound on facet angles
-  double facet_size = 0.060;       ///< upper bound on surface Delaunay ball radii (controls the vertex count)
-  double facet_distance = 0.006;   ///< upper bound on facet-to-surface distance
+  double facet_size = 0.036;       ///< upper bound on surface Delaunay ball radii (controls the vertex count)
+  double facet_distance = 0.005;   ///< upper bound on facet-to-surface distance
 };
 
 /// Parameters of creature_a(): a dog-like animal (slim body, medium neck, long legs, nearly straight tail).
@@ -106,8 +106,8 @@ inline Creature_params creature_b_params() {
   p.tail_radius_tip = 0.05;
   p.tail_segments = 12;
   p.blend = 0.14;
-  p.facet_size = 0.056;
-  p.facet_distance = 0.006;
+  p.facet_size = 0.036;
+  p.facet_distance = 0.005;
   return p;
 }
 
@@ -252,6 +252,20 @@ struct Creature_geometry {
                V3{0.80 * rx, 0.0, -0.35 * rz},
                V3{-0.1 * rx, ry, 0.0},
                V3{-0.1 * rx, -ry, 0.0}};
+    // Move the anchors onto the surface (a few Newton steps along the field gradient): some, like the chest,
+    // lie inside a smooth blend.
+    for (V3& a : anchors) {
+      for (int it = 0; it < 20; ++it) {
+        const double f = (*this)(a);
+        const double e = 1e-6;
+        const V3 g{((*this)(a + V3{e, 0, 0}) - (*this)(a - V3{e, 0, 0})) / (2 * e),
+                   ((*this)(a + V3{0, e, 0}) - (*this)(a - V3{0, e, 0})) / (2 * e),
+                   ((*this)(a + V3{0, 0, e}) - (*this)(a - V3{0, 0, e})) / (2 * e)};
+        const double g2 = dot(g, g);
+        if (g2 < 1e-12 || std::abs(f) < 1e-9) break;
+        a = a - (f / g2) * g;
+      }
+    }
     double R = std::max(rx, std::max(ry, rz));
     auto grow = [&R](const Round_cone& c) {
       R = std::max(R, norm(c.a) + c.ra);
@@ -480,6 +494,117 @@ inline void geodesic_sphere(std::size_t n, std::vector<V3>& points, std::vector<
   }
 }
 
+/// Orientation of the triangle (a, b, c) of a sphere mesh seen from the origin: det(a, b, c) > 0 if outward.
+inline double det3(V3 a, V3 b, V3 c) { return dot(a, cross(b, c)); }
+
+/// Makes the geodesic sphere (`unit`, `tris`, frequency n) irregular, deterministically from `rng`:
+/// 1. tangential jitter of every vertex (up to 0.3 edge lengths, never inverting a triangle);
+/// 2. removal of a random subset of the vertices (up to 40%, with a density gradient over the sphere) by
+///    collapsing each onto its nearest neighbour when the link condition holds and no triangle inverts;
+/// 3. edge flips towards the convex hull of the points (the spherical Delaunay triangulation).
+/// Only vertex indices and the mt19937 stream decide anything, so the result is the same in every run.
+inline void irregular_sphere(std::size_t n, std::mt19937& rng, std::vector<V3>& unit,
+                             std::vector<std::array<std::size_t, 3>>& tris) {
+  using VI = Surface_mesh::Vertex_index;
+  using HI = Surface_mesh::Halfedge_index;
+  const double h = 1.05 / static_cast<double>(n);  // approximate edge length
+  const double min_det = 0.05 * h * h;              // triangles kept clearly non-degenerate
+  std::vector<Point_3> pts;
+  for (const V3& u : unit) pts.emplace_back(u.x, u.y, u.z);
+  Surface_mesh m = soup_to_mesh(pts, tris, "make_deformed_sphere");
+  auto pos = [&m](VI v) { return to_v3(m.point(v)); };
+  auto set_pos = [&m](VI v, V3 p) { m.point(v) = Point_3(p.x, p.y, p.z); };
+  // Would moving v to p keep every triangle incident to v (other than those containing `skip`) outward?
+  auto star_ok = [&](VI v, V3 p, VI skip) {
+    for (HI hh : CGAL::halfedges_around_target(m.halfedge(v), m)) {
+      const VI a = m.source(hh);                // previous vertex in the face (a, v, c)
+      const VI c = m.target(m.next(hh));
+      if (a == skip || c == skip) continue;
+      if (!(det3(pos(a), p, pos(c)) > min_det)) return false;
+    }
+    return true;
+  };
+
+  // 1. Jitter.
+  for (VI v : m.vertices()) {
+    const V3 u = pos(v);
+    V3 t = random_unit(rng);
+    t = t - dot(t, u) * u;
+    const double amp = 0.3 * h * uniform01(rng);
+    const V3 p = normalized(u + amp * normalized(t));
+    if (norm(t) > 1e-6 && star_ok(v, p, VI())) set_pos(v, p);
+  }
+
+  // 2. Vertex removal.
+  const V3 density_dir = random_unit(rng);
+  const double drop = uniform(rng, 0.05, 0.2);
+  const std::size_t nv0 = m.number_of_vertices();
+  std::size_t alive = nv0;
+  for (std::size_t i = 0; i < nv0; ++i) {
+    const double r = uniform01(rng);
+    const VI v(static_cast<Surface_mesh::size_type>(i));
+    if (m.is_removed(v) || alive <= 12) continue;
+    const V3 u = pos(v);
+    if (!(r < drop * (1.0 + dot(u, density_dir)))) continue;
+    HI best;  // halfedge v -> w with w the nearest neighbour
+    double best_d = std::numeric_limits<double>::infinity();
+    for (HI hh : CGAL::halfedges_around_source(v, m)) {
+      const double d = norm(pos(m.target(hh)) - u);
+      if (d < best_d) {
+        best_d = d;
+        best = hh;
+      }
+    }
+    const VI w = m.target(best);
+    if (m.degree(v) + m.degree(w) > 16) continue;
+    if (!CGAL::Euler::does_satisfy_link_condition(m.edge(best), m)) continue;
+    const V3 pw = pos(w);
+    if (!star_ok(v, pw, w)) continue;
+    const VI kept = CGAL::Euler::collapse_edge(m.edge(best), m);
+    set_pos(kept, pw);
+    --alive;
+  }
+
+  // 3. Flips: an edge (a, b) with faces (a, b, c) and (b, a, d) is reflex if d lies outside the plane of
+  // (a, b, c); flipping it to (c, d) makes the surface locally convex.
+  std::vector<Surface_mesh::Edge_index> stack;
+  std::vector<char> queued(m.number_of_edges() + m.number_of_removed_edges(), 0);
+  for (auto e : m.edges()) {
+    stack.push_back(e);
+    queued[e] = 1;
+  }
+  const double reflex_eps = 1e-9 * h * h * h;
+  std::size_t budget = 100 * m.number_of_edges();
+  while (!stack.empty() && budget-- > 0) {
+    const auto e = stack.back();
+    stack.pop_back();
+    queued[e] = 0;
+    const HI hh = m.halfedge(e);
+    const HI ho = m.opposite(hh);
+    const VI a = m.source(hh), b = m.target(hh), c = m.target(m.next(hh)), d = m.target(m.next(ho));
+    const V3 pa = pos(a), pb = pos(b), pc = pos(c), pd = pos(d);
+    if (!(det3(pb - pa, pc - pa, pd - pa) > reflex_eps)) continue;
+    if (c == d || m.halfedge(c, d) != Surface_mesh::null_halfedge()) continue;
+    if (!(det3(pa, pd, pc) > min_det && det3(pd, pb, pc) > min_det)) continue;
+    const HI around[4] = {m.next(hh), m.prev(hh), m.next(ho), m.prev(ho)};
+    CGAL::Euler::flip_edge(hh, m);
+    for (HI x : around)
+      if (!queued[m.edge(x)]) {
+        queued[m.edge(x)] = 1;
+        stack.push_back(m.edge(x));
+      }
+  }
+
+  m.collect_garbage();
+  unit.clear();
+  for (VI v : m.vertices()) unit.push_back(pos(v));
+  tris.clear();
+  for (auto f : m.faces()) {
+    const HI hh = m.halfedge(f);
+    tris.push_back({std::size_t(m.source(hh)), std::size_t(m.target(hh)), std::size_t(m.target(m.next(hh)))});
+  }
+}
+
 } // namespace internal_shapes
 
 /// Feature anchor points of a creature, in creature_feature_names() order.
@@ -581,8 +706,8 @@ inline Surface_mesh make_creature(const Creature_params& params) {
     if (outside.count(c)) continue;
     for (int i = 0; i < 4; ++i) {
       if (c2t3.face_status(c, i) == C2t3::NOT_IN_COMPLEX) continue;
-      // vertex_triple_index(i, .) orients the facet positively seen from inside the cell... or its opposite;
-      // the global orientation is fixed below by the sign of the volume.
+      // Every facet is taken from its inside cell with the same vertex_triple_index convention, so all are
+      // oriented alike; whether that is outward is settled below by the sign of the volume.
       tris.push_back({vindex.at(c->vertex(Tr::vertex_triple_index(i, 0))),
                       vindex.at(c->vertex(Tr::vertex_triple_index(i, 1))),
                       vindex.at(c->vertex(Tr::vertex_triple_index(i, 2)))});
@@ -637,9 +762,10 @@ inline Feature_correspondence creature_features(const Surface_mesh& a, const Sur
 /// A randomly deformed sphere with about `target_vertices` vertices (at least 12).
 ///
 /// The base is a geodesic icosphere of frequency n = round(sqrt((target_vertices - 2) / 10)), i.e. 10 n^2 + 2
-/// vertices. If `irregular`, its vertices are jittered on the sphere, a seed-dependent fraction (3% to 30%, varying
-/// over the sphere) of them is dropped, and the rest is re-triangulated by their convex hull (a spherical
-/// Delaunay triangulation), so different seeds give different connectivity and vertex counts.
+/// vertices. If `irregular`, its vertices are jittered on the sphere, a seed-dependent fraction (up to 40%, varying
+/// over the sphere) of them is removed by edge collapses, and edges are flipped towards the convex hull of the
+/// remaining points (a spherical Delaunay triangulation), so different seeds give different connectivity and
+/// vertex counts (see internal_shapes::irregular_sphere).
 /// The unit-sphere mesh is then deformed radially by r(u) = 1 + sum of 3..6 Gaussian bumps and dents (so it stays
 /// star-shaped from the origin and free of self-intersections), scaled anisotropically by factors in [0.75, 1.3]
 /// and rotated. Closed, manifold, genus 0, outward oriented, deterministic per (seed, target, irregular).
@@ -652,52 +778,7 @@ inline Surface_mesh make_deformed_sphere(unsigned seed, std::size_t target_verti
   std::vector<std::array<std::size_t, 3>> tris;
   geodesic_sphere(n, unit, tris);
 
-  if (irregular) {
-    const double h = 1.05 / static_cast<double>(n);  // approximate edge length
-    const V3 density_dir = random_unit(rng);
-    const double drop = uniform(rng, 0.03, 0.15);
-    std::vector<V3> kept;
-    for (std::size_t i = 0; i < unit.size(); ++i) {
-      const V3 u = unit[i];
-      // Random tangential jitter of up to 0.3 h.
-      V3 t = random_unit(rng);
-      t = t - dot(t, u) * u;
-      const double amp = 0.3 * h * uniform01(rng);
-      const V3 p = normalized(u + amp * normalized(t));
-      const double p_drop = drop * (1.0 + dot(u, density_dir));
-      const bool dropped = uniform01(rng) < p_drop;
-      if (!dropped) kept.push_back(p);
-    }
-    if (kept.size() < 8) kept = unit;
-    std::vector<Point_3> pts;
-    pts.reserve(kept.size());
-    for (const V3& p : kept) pts.emplace_back(p.x, p.y, p.z);
-    Surface_mesh hull;
-    CGAL::convex_hull_3(pts.begin(), pts.end(), hull);
-    // convex_hull_3 returns vertices and faces in an order that varies between runs: number the hull
-    // vertices by the input order of their points and sort the faces, so the result is deterministic.
-    std::map<Point_3, std::size_t> input_index;
-    for (std::size_t i = 0; i < pts.size(); ++i) input_index.emplace(pts[i], i);
-    std::vector<std::size_t> used;
-    for (auto v : hull.vertices()) used.push_back(input_index.at(hull.point(v)));
-    std::sort(used.begin(), used.end());
-    std::map<std::size_t, std::size_t> renumber;
-    unit.clear();
-    for (std::size_t i : used) {
-      renumber.emplace(i, unit.size());
-      unit.push_back(to_v3(pts[i]));
-    }
-    tris.clear();
-    for (auto f : hull.faces()) {
-      auto hh = hull.halfedge(f);
-      std::array<std::size_t, 3> t{renumber.at(input_index.at(hull.point(hull.source(hh)))),
-                                   renumber.at(input_index.at(hull.point(hull.target(hh)))),
-                                   renumber.at(input_index.at(hull.point(hull.target(hull.next(hh)))))};
-      std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
-      tris.push_back(t);
-    }
-    std::sort(tris.begin(), tris.end());
-  }
+  if (irregular) irregular_sphere(n, rng, unit, tris);
 
   // Radial deformation.
   const int bumps = 3 + static_cast<int>(rng() % 4u);
@@ -706,8 +787,8 @@ inline Surface_mesh make_deformed_sphere(unsigned seed, std::size_t target_verti
   double neg = 0;
   for (int k = 0; k < bumps; ++k) {
     centres.push_back(random_unit(rng));
-    amps.push_back(uniform(rng, -0.25, 0.35));
-    widths.push_back(uniform(rng, 0.35, 0.8));
+    amps.push_back(uniform(rng, -0.3, 0.45));
+    widths.push_back(uniform(rng, 0.35, 0.75));
     if (amps.back() < 0) neg -= amps.back();
   }
   if (neg > 0.5)

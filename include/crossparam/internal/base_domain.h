@@ -191,7 +191,8 @@ struct Base_mesh {
     return true;
   }
 
-  /// The canonical frame of a set of locations: the lowest base triangle c, then the lowest slot n (-1, i.e.
+  /// The canonical frame of a set of locations: their common stored triangle if they share one; otherwise
+  /// the lowest base triangle c, then the lowest slot n (-1, i.e.
   /// c alone, first), such that every location is in c or in neighbour nb[c][n], and the straight image stays
   /// inside c and that neighbour: every segment from a point of c only to a point of the neighbour only crosses
   /// the line of the shared edge within the edge (exact predicates; the two unfolded triangles need not form
@@ -199,6 +200,15 @@ struct Base_mesh {
   template <std::size_t N>
   bool canonical_frame(const std::array<const Base_location*, N>& ls, int& c_out, int& n_out,
                        std::array<Point_2, N>& pts) const {
+    // Fast path, the common case: every location stored in the same base triangle.
+    bool same = true;
+    for (const Base_location* l : ls) same &= l->tri == ls[0]->tri;
+    if (same) {
+      for (std::size_t k = 0; k < N; ++k) frame_point(ls[0]->tri, -1, *ls[k], pts[k]);
+      c_out = ls[0]->tri;
+      n_out = -1;
+      return true;
+    }
     std::vector<int> cand, tmp;
     for (const Base_location* l : ls) {
       containing(*l, tmp);

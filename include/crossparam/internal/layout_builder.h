@@ -62,6 +62,7 @@ public:
   /// the most consistent of the three pairs is kept. Where two routes around a featureless protrusion have
   /// nearly equal lengths, shortest paths alone pick sides independently on the two meshes.
   bool consistent_paths = true;
+  double consistency_threshold = 0.02; ///< pairs agreeing better than this (RMS per feature) are kept as traced
   double guide_weight = 20;        ///< edge cost = length * (1 + guide_weight * descriptor distance)
   std::size_t guide_samples = 16;  ///< descriptors of at most this many vertices of the guiding path
   std::size_t max_flip_splits = 2; ///< a flip may split at most this many edges on each mesh
@@ -166,6 +167,7 @@ public:
   void make_consistent(int a, int b, Halfedge_path& hs, Halfedge_path& ht) {
     if (!consistent_paths) return;
     double best = consistency(hs, ht);
+    if (best <= consistency_threshold) return;
     auto cs = corners(0, hs);
     auto ds = side[0].path_descriptors(hs, guide_samples), dt = side[1].path_descriptors(ht, guide_samples);
     Halfedge_path t2 = side[1].shortest_path(a, b, cs.first, cs.second, &ds, guide_weight);
