@@ -2,6 +2,8 @@
 // Layout stage (paper §3) on the ../shared/bench cases: prints a table of sizes, features, paths, splits,
 // flips and the time of each step. Usage: bench_layout [BENCH_DIR] [REPEATS]
 #include <crossparam/io.h>
+
+#include "bench_common.h"
 #include <crossparam/patch_layout.h>
 
 #include <algorithm>
@@ -17,19 +19,8 @@ namespace fs = std::filesystem;
 int main(int argc, char** argv) {
   fs::path dir = argc > 1 ? fs::path(argv[1]) : fs::path(CROSSPARAM_SHARED_DIR) / "bench";
   int repeats = argc > 2 ? std::max(1, std::atoi(argv[2])) : 3;
-  if (!fs::is_directory(dir)) {
-    std::cerr << "bench_layout: no bench directory at " << dir << "\n";
-    return 1;
-  }
-  std::vector<fs::path> cases;
-  for (const auto& e : fs::directory_iterator(dir))
-    if (fs::exists(e.path() / "source.off")) cases.push_back(e.path());
-  std::sort(cases.begin(), cases.end());
-#ifdef NDEBUG
-  const char* asserts = "off";
-#else
-  const char* asserts = "on";
-#endif
+  const std::vector<fs::path> cases = bench::cases(dir, "bench_layout");
+  const char* asserts = bench::assertions();
   std::printf("layout stage, best of %d runs, assertions %s, times in ms\n\n", repeats, asserts);
   std::printf("| case | V source | V target | features | edge paths | face paths | splits s/t | flips | edge paths ms | face paths ms | flips ms | layout ms | verify ms |\n");
   std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");

@@ -4,6 +4,8 @@
 #include <crossparam/cross_parameterization.h>
 #include <crossparam/io.h>
 
+#include "bench_common.h"
+
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -14,19 +16,8 @@ namespace fs = std::filesystem;
 
 int main(int argc, char** argv) {
   fs::path dir = argc > 1 ? fs::path(argv[1]) : fs::path(CROSSPARAM_SHARED_DIR) / "bench";
-  if (!fs::is_directory(dir)) {
-    std::cerr << "bench_map: no bench directory at " << dir << "\n";
-    return 1;
-  }
-  std::vector<fs::path> cases;
-  for (const auto& e : fs::directory_iterator(dir))
-    if (fs::exists(e.path() / "source.off")) cases.push_back(e.path());
-  std::sort(cases.begin(), cases.end());
-#ifdef NDEBUG
-  const char* asserts = "off";
-#else
-  const char* asserts = "on";
-#endif
+  const std::vector<fs::path> cases = bench::cases(dir, "bench_map");
+  const char* asserts = bench::assertions();
   std::printf("cross-parameterization, one run per case, assertions %s, times in ms\n\n", asserts);
   std::printf("| case | V source | V target | features | layout | param | smoothing (passes) | certificate | total | E_ang before -> after | L2 stretch before -> after |\n");
   std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---|\n");
