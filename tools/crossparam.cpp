@@ -237,18 +237,33 @@ void print_summary(const Options& o, const Patch_layout& L) {
   std::cout << "wrote " << o.output << "/\n";
 }
 
-int run_layout(const Options& o) {
-  if (o.positional.size() != 2) throw Usage_error("layout needs SOURCE and TARGET");
-  if (o.features.empty()) throw Usage_error("layout needs --features FILE");
-  if (o.output.empty()) throw Usage_error("layout needs -o DIR");
+/// The two meshes and the features of a `layout` or `map` command, validated.
+struct Inputs {
+  Loaded source, target;
+  Feature_correspondence features;
+  double seconds = 0;
+};
+
+Inputs read_inputs(const Options& o) {
+  const std::string& c = o.command;
+  if (o.positional.size() != 2) throw Usage_error(c + " needs SOURCE and TARGET");
+  if (o.features.empty()) throw Usage_error(c + " needs --features FILE");
+  if (o.output.empty()) throw Usage_error(c + " needs -o DIR");
   Timer tr;
-  Loaded s = load(o.positional[0], o), t = load(o.positional[1], o);
-  Feature_correspondence f =
-      read_feature_pairs(o.features, s.mesh.number_of_vertices(), t.mesh.number_of_vertices());
-  double read_s = tr.seconds();
-  Patch_layout L = compute_patch_layouts(s.mesh, t.mesh, f, crossparam::parameters::apply_path_flips(o.flips),
+  Inputs in;
+  in.source = load(o.positional[0], o);
+  in.target = load(o.positional[1], o);
+  in.features = read_feature_pairs(o.features, in.source.mesh.number_of_vertices(), in.target.mesh.number_of_vertices());
+  in.seconds = tr.seconds();
+  return in;
+}
+
+int run_layout(const Options& o) {
+  Inputs in = read_inputs(o);
+  Surface_mesh &s = in.source.mesh, &t = in.target.mesh;
+  Patch_layout L = compute_patch_layouts(s, t, in.features, crossparam::parameters::apply_path_flips(o.flips),
                                          CGAL::parameters::default_values());
-  write_layout(o, s.mesh, t.mesh, L, {{"read", read_s}});
+  write_layout(o, s, t, L, {{"read", in.seconds}});
   print_summary(o, L);
   return 0;
 }
@@ -396,15 +411,9 @@ void write_map(const Options& o, const Map& cp, double read_s) {
 }
 
 int run_map(const Options& o) {
-  if (o.positional.size() != 2) throw Usage_error("map needs SOURCE and TARGET");
-  if (o.features.empty()) throw Usage_error("map needs --features FILE");
-  if (o.output.empty()) throw Usage_error("map needs -o DIR");
-  Timer tr;
-  Loaded s = load(o.positional[0], o), t = load(o.positional[1], o);
-  Feature_correspondence f = read_feature_pairs(o.features, s.mesh.number_of_vertices(), t.mesh.number_of_vertices());
-  double read_s = tr.seconds();
-  Map cp = compute_map(o, s.mesh, t.mesh, f);
-  write_map(o, cp, read_s);
+  Inputs in = read_inputs(o);
+  Map cp = compute_map(o, in.source.mesh, in.target.mesh, in.features);
+  write_map(o, cp, in.seconds);
   return 0;
 }
 
