@@ -102,7 +102,7 @@ struct Base_mesh {
   }
 
   void compute_unfoldings() {
-    far.assign(tri.size(), {});
+    far.assign(tri.size(), {Point_2(0, 0), Point_2(0, 0), Point_2(0, 0)});
     for (int t = 0; t < int(tri.size()); ++t)
       for (int i = 0; i < 3; ++i) {
         const int u = nb[t][i];
