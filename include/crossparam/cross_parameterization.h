@@ -280,12 +280,7 @@ private:
     std::map<std::pair<int, int>, double> len;
     for (int k = 0; k < 2; ++k) {
       const internal::Layout_mesh& L = B_.side[k];
-      double area = 0;
-      for (internal::WF f : L.m.faces()) {
-        internal::WH h = L.m.halfedge(f);
-        area += std::sqrt(CGAL::squared_area(L.m.point(L.m.source(h)), L.m.point(L.m.target(h)),
-                                             L.m.point(L.m.target(L.m.next(h)))));
-      }
+      const double area = L.area();
       const double scale = area > 0 ? 1.0 / std::sqrt(area) : 1.0;
       for (std::size_t p = 0; p < B_.path_ends.size(); ++p) {
         if (B_.path_ends[p][0] < 0) continue;

@@ -40,10 +40,7 @@ struct Smoothing_report {
 class Mean_value_weights {
 public:
   void prepare(const internal::Work_mesh& m) {
-    double mean_edge = 0;
-    for (auto e : m.edges()) mean_edge += std::sqrt(CGAL::squared_distance(m.point(m.source(m.halfedge(e))), m.point(m.target(m.halfedge(e)))));
-    mean_edge /= std::max<std::size_t>(1, m.number_of_edges());
-    const double fallback = mean_edge > 0 ? 1.0 / mean_edge : 1.0;
+    const double fallback = internal::mean_value_fallback(m);
     w_.assign(m.number_of_halfedges(), 0.0);
     for (auto h : m.halfedges()) w_[h] = internal::mean_value_weight(m, h, fallback);
   }

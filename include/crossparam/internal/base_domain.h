@@ -20,6 +20,7 @@
 #define CROSSPARAM_INTERNAL_BASE_DOMAIN_H
 
 #include <crossparam/errors.h>
+#include <crossparam/internal/barycentric.h>
 #include <crossparam/types.h>
 
 #include <algorithm>
@@ -139,14 +140,7 @@ struct Base_mesh {
       bx = l.b;
       return true;
     }
-    bx = {0, 0, 0};
-    for (int j = 0; j < 3; ++j) {
-      if (l.b[j] == 0) continue;
-      int k = corner_index(x, tri[l.tri][j]);
-      if (k < 0) return false;
-      bx[k] = l.b[j];
-    }
-    return true;
+    return reexpress_barycentric(tri[l.tri], l.b, tri[x], bx);
   }
 
   /// Base triangles that contain location l (one inside a triangle, two on an edge, all around a corner).

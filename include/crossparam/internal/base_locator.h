@@ -84,7 +84,6 @@ public:
   /// rounding leaves the point in no face (on a shared edge), the face with the largest smallest barycentric.
   Work_location locate(const Base_location& l) const {
     const Base_mesh& B = *P_->base;
-    const Work_mesh& m = P_->mesh->m;
     Point_2 q;
     B.frame_point(l.tri, -1, l, q);
     const int t = l.tri;
@@ -124,7 +123,6 @@ public:
         }
       Base_mesh::normalise(best.b);
     }
-    (void)m;
     return best;
   }
 

@@ -50,6 +50,15 @@ inline double mean_value_weight(const Work_mesh& m, WH h, double fallback) {
   return w;
 }
 
+/// The weight used by mean_value_weight where the formula is undefined: 1 / mean edge length.
+inline double mean_value_fallback(const Work_mesh& m) {
+  double mean_edge = 0;
+  for (WE e : m.edges())
+    mean_edge += std::sqrt(CGAL::squared_distance(m.point(m.source(m.halfedge(e))), m.point(m.target(m.halfedge(e)))));
+  mean_edge /= double(std::max<std::size_t>(1, m.number_of_edges()));
+  return mean_edge > 0 ? 1.0 / mean_edge : 1.0;
+}
+
 /// One mesh parameterized over the base mesh.
 struct Base_parameterization {
   const Base_mesh* base = nullptr;
@@ -120,10 +129,7 @@ struct Base_parameterization {
       row[v] = int(interior[t].size());
       interior[t].push_back(v);
     }
-    double mean_edge = 0;
-    for (WE e : m.edges()) mean_edge += mesh->edge_length(m.halfedge(e));
-    mean_edge /= std::max<std::size_t>(1, m.number_of_edges());
-    const double fallback = mean_edge > 0 ? 1.0 / mean_edge : 1.0;
+    const double fallback = mean_value_fallback(m);
     for (std::size_t t = 0; t < B.tri.size(); ++t) {
       const auto& q = B.q[t];
       const auto& vs = interior[t];

@@ -206,8 +206,6 @@ public:
     bool dead = false;
   };
 
-  /// Cost of a candidate pair: PathMatch takes the cheapest first (paper: |s| + |t|).
-  double pair_cost(double ls, double lt) const { return ls + lt; }
 
   void path_match() {
     const int n = int(nf());
@@ -221,7 +219,7 @@ public:
     std::priority_queue<QE, std::vector<QE>, std::greater<QE>> q;
     auto push = [&](std::size_t i) {
       Pair_state& p = pairs[i];
-      q.push({pair_cost(side[0].path_length(p.s), side[1].path_length(p.t)), i, p.version});
+      q.push({side[0].path_length(p.s) + side[1].path_length(p.t), i, p.version}); // paper: |s| + |t|
     };
     for (int a = 0; a < n; ++a)
       for (int b = a + 1; b < n; ++b) {

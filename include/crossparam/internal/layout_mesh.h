@@ -8,6 +8,7 @@
 
 #include <crossparam/errors.h>
 #include <crossparam/types.h>
+#include <crossparam/internal/barycentric.h>
 
 #include <CGAL/boost/graph/Euler_operations.h>
 
@@ -98,12 +99,18 @@ public:
   /// Corresponding points of two similar meshes have similar descriptors (Layout_builder::consistency).
   std::vector<std::vector<float>> desc;
 
-  void compute_descriptors() {
-    double area = 0;
+  /// Total surface area (working coordinates).
+  double area() const {
+    double a = 0;
     for (WF f : m.faces()) {
       WH h = m.halfedge(f);
-      area += std::sqrt(CGAL::squared_area(m.point(m.source(h)), m.point(m.target(h)), m.point(m.target(m.next(h)))));
+      a += std::sqrt(CGAL::squared_area(m.point(m.source(h)), m.point(m.target(h)), m.point(m.target(m.next(h)))));
     }
+    return a;
+  }
+
+  void compute_descriptors() {
+    const double area = this->area();
     const double sc = area > 0 ? 1.0 / std::sqrt(area) : 1.0;
     const std::size_t nf = feature_vertex.size();
     desc.assign(m.number_of_vertices(), std::vector<float>(nf, 0.f));
@@ -174,17 +181,7 @@ public:
       out = r.second;
       return true;
     }
-    out = {0, 0, 0};
-    for (int j = 0; j < 3; ++j) {
-      if (r.second[j] == 0) continue;
-      std::size_t corner = orig_tri[r.first][j];
-      int k = -1;
-      for (int i = 0; i < 3; ++i)
-        if (orig_tri[o][i] == corner) k = i;
-      if (k < 0) return false;
-      out[k] = r.second[j];
-    }
-    return true;
+    return reexpress_barycentric(orig_tri[r.first], r.second, orig_tri[o], out);
   }
 
   // ---- navigation around a vertex (outward orientation: counter-clockwise seen from outside) ----
@@ -512,7 +509,7 @@ public:
     Point_3 p = CGAL::midpoint(m.point(u), m.point(v));
     WH h = m.halfedge(u, v);
     const int oa = forig[m.face(h)], ob = forig[m.face(m.opposite(h))];
-    const WV xa = m.target(m.next(h)), xb = m.target(m.next(m.opposite(h)));
+    const WV xa = m.target(m.next(h)); // opposite corner on h's side: its faces inherit oa, the others ob
     // The new vertex as a point of the original mesh: the midpoint, in an original face holding both ends.
     std::array<double, 3> ru, rv;
     int o = oa;
@@ -536,7 +533,6 @@ public:
       for (WV x : CGAL::vertices_around_face(m.halfedge(f), m)) has_a |= (x == xa);
       forig[f] = has_a ? oa : ob;
     }
-    (void)xb;
     return w;
   }
 
