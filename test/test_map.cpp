@@ -227,13 +227,13 @@ TEST_P(BenchMap, CertifiedAndAccurate) {
   // Nearest-point baselines from the issue: 0.074 (wolf), 0.128 (horse). Bounds are today's figures with a
   // small margin, so that a regression fails; the aim is below 0.03.
   if (GetParam() == "wolf0_wolf2") {
-    EXPECT_LT(acc.mean, 0.055);
+    EXPECT_LT(acc.mean, 0.034);
   }
   if (GetParam() == "horse0_horse7") {
-    EXPECT_LT(acc.mean, 0.040);
+    EXPECT_LT(acc.mean, 0.037);
   }
   if (!gt) {
-    EXPECT_LT(acc.mean, 0.25);
+    EXPECT_LT(acc.mean, 0.18);
   }
 }
 

@@ -47,6 +47,7 @@ struct Cross_parameterization_statistics {
   Layout_statistics layout;
   Smoothing_report smoothing_source, smoothing_target;
   unsigned smoothing_best_iteration = 0; ///< passes after which the kept (least distorted) state was reached
+  std::size_t protrusion_warps = 0;  ///< base triangles re-aligned by align_protrusions (descriptor-guided)
   Distortion distortion_initial;  ///< of F right after the mean-value parameterization (§4.1)
   Distortion distortion;          ///< of the final F
   bool stretch_reweighted_source = false; ///< the mean-value weights needed stretch reweighting (§4.1 note)
@@ -186,6 +187,20 @@ public:
       P_[0].loc = std::move(best[0]);
       P_[1].loc = std::move(best[1]);
     }
+    {
+      // Protrusion alignment, kept only if F stays less distorted than the initial map (with meaningless
+      // descriptors, e.g. a wrong correspondence, the warps are unfounded).
+      locator_[1].build(P_[1]);
+      std::vector<Base_location> before = P_[0].loc;
+      stats_.protrusion_warps = align_protrusions();
+      if (stats_.protrusion_warps > 0) {
+        const Distortion d = measure_distortion();
+        if (!(d.angular < stats_.distortion_initial.angular && d.l2_stretch < stats_.distortion_initial.l2_stretch)) {
+          P_[0].loc = std::move(before);
+          stats_.protrusion_warps = 0;
+        }
+      }
+    }
     const auto t4 = clock::now();
     for (int k = 0; k < 2; ++k) {
       cert_[k] = P_[k].certify();
@@ -307,6 +322,150 @@ private:
       }
     }
     return len;
+  }
+
+  /// Distance between two geodesic-distance descriptors (Layout_mesh::desc).
+  static double descriptor_distance(const std::vector<float>& a, const std::vector<float>& b) {
+    double s = 0;
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      const double x = double(a[k]) - double(b[k]);
+      s += x * x;
+    }
+    return std::sqrt(s);
+  }
+
+  /// Descriptor disagreement between source vertex v and its image F(v) (target descriptors interpolated).
+  double image_mismatch(internal::WV v) const {
+    const internal::Layout_mesh& Ls = B_.side[0];
+    const internal::Layout_mesh& Lt = B_.side[1];
+    const internal::Work_location l = locator_[1].locate(P_[0][v]);
+    const internal::WH h = Lt.m.halfedge(l.face);
+    const internal::WV u[3] = {Lt.m.source(h), Lt.m.target(h), Lt.m.target(Lt.m.next(h))};
+    double s = 0;
+    for (std::size_t k = 0; k < Ls.desc[v].size(); ++k) {
+      const double x = Ls.desc[v][k] - (l.b[0] * Lt.desc[u[0]][k] + l.b[1] * Lt.desc[u[1]][k] + l.b[2] * Lt.desc[u[2]][k]);
+      s += x * x;
+    }
+    return std::sqrt(s);
+  }
+
+  /// Featureless protrusions (a limb inside one patch) are squeezed by the parameterizations into tiny regions
+  /// of their base triangle, and the two meshes' regions rarely coincide: F then sends the whole limb to one
+  /// point. For every base triangle, the interior source vertex whose image disagrees most with it (geodesic-
+  /// distance descriptors) is compared with the target vertices of the same triangle; if one agrees much
+  /// better, the source vertices of the triangle are moved by a piecewise-affine homeomorphism of the
+  /// triangle that fixes its sides and carries the source vertex onto that target vertex: an inner triangle
+  /// around it is translated rigidly (the squeezed limb moves as a whole), the three trapezoids between it and
+  /// the sides follow affinely. A warp that would flip a face (exact predicate) is undone. Returns the number
+  /// of triangles warped. Needs the target's locator built.
+  std::size_t align_protrusions() {
+    using internal::Point_2;
+    const internal::Layout_mesh& Ls = B_.side[0];
+    const internal::Layout_mesh& Lt = B_.side[1];
+    if (Ls.desc.empty() || Lt.desc.empty()) return 0;
+    const double min_gain = 0.2;          // descriptor units (unit area); agreement is typically ~0.13
+    const std::size_t candidates = 8;     // worst source vertices tried per base triangle
+    auto interior = [](const Base_location& l) { return l.b[0] > 0 && l.b[1] > 0 && l.b[2] > 0; };
+    const std::size_t nt = base_.tri.size();
+    std::vector<std::vector<std::pair<double, internal::WV>>> worst(nt);
+    for (internal::WV v : Ls.m.vertices())
+      if (Ls.vfeature[v] == internal::no_feature && Ls.vpath[v] == internal::no_path && interior(P_[0][v]))
+        worst[std::size_t(P_[0][v].tri)].push_back({image_mismatch(v), v});
+    std::vector<std::vector<internal::WV>> target_in(nt);
+    for (internal::WV u : Lt.m.vertices())
+      if (Lt.vfeature[u] == internal::no_feature && interior(P_[1][u])) target_in[std::size_t(P_[1][u].tri)].push_back(u);
+    std::vector<std::vector<internal::WV>> source_in(nt);
+    for (internal::WV v : Ls.m.vertices()) source_in[std::size_t(P_[0][v].tri)].push_back(v);
+    std::size_t warps = 0;
+    for (std::size_t t = 0; t < nt; ++t) {
+      auto& w = worst[t];
+      const std::size_t n = std::min(candidates, w.size());
+      std::partial_sort(w.begin(), w.begin() + std::ptrdiff_t(n), w.end(),
+                        [](const auto& x, const auto& y) { return x.first > y.first; });
+      double best = min_gain;
+      internal::WV bv, bu;
+      for (std::size_t i = 0; i < n; ++i)
+        for (internal::WV u : target_in[t]) {
+          const double gain = w[i].first - descriptor_distance(Ls.desc[w[i].second], Lt.desc[u]);
+          if (gain > best) best = gain, bv = w[i].second, bu = u;
+        }
+      if (best <= min_gain) continue;
+      for (double inner : {0.5, 0.25, 0.125})
+        if (warp_triangle(int(t), source_in[t], P_[0][bv].b, P_[1][bu].b, inner)) {
+          ++warps;
+          break;
+        }
+    }
+    return warps;
+  }
+
+  /// The homeomorphism of align_protrusions on base triangle t, carrying barycentrics `from` to `to`, applied
+  /// to the source vertices `vs` located in t; `inner` scales the rigidly moved triangle. False (and nothing
+  /// changed) if a piece or a mesh face would not be positively oriented.
+  bool warp_triangle(int t, const std::vector<internal::WV>& vs, const std::array<double, 3>& from,
+                     const std::array<double, 3>& to, double inner) {
+    using internal::Point_2;
+    // Affine frame of the triangle: a point with barycentrics b is (b1, b2).
+    auto pt = [](const std::array<double, 3>& b) { return Point_2(b[1], b[2]); };
+    const Point_2 P[3] = {Point_2(0, 0), Point_2(1, 0), Point_2(0, 1)};
+    const Point_2 a = pt(from), b = pt(to);
+    double s = 1;
+    for (int j = 0; j < 3; ++j) s = std::min(s, to[j] / from[j]); // keeps the moved inner triangle inside t
+    s *= inner;
+    Point_2 I[3], J[3];
+    for (int i = 0; i < 3; ++i) {
+      I[i] = a + s * (P[i] - a);
+      J[i] = I[i] + (b - a);
+    }
+    std::vector<std::array<Point_2, 3>> src{{I[0], I[1], I[2]}}, dst{{J[0], J[1], J[2]}};
+    for (int i = 0; i < 3; ++i) {
+      const int j = (i + 1) % 3;
+      src.push_back({P[i], P[j], I[j]});
+      dst.push_back({P[i], P[j], J[j]});
+      src.push_back({P[i], I[j], I[i]});
+      dst.push_back({P[i], J[j], J[i]});
+    }
+    for (std::size_t i = 0; i < src.size(); ++i)
+      if (CGAL::orientation(src[i][0], src[i][1], src[i][2]) != CGAL::POSITIVE ||
+          CGAL::orientation(dst[i][0], dst[i][1], dst[i][2]) != CGAL::POSITIVE)
+        return false;
+    auto area2 = [](const Point_2& p, const Point_2& q, const Point_2& r) {
+      return (q.x() - p.x()) * (r.y() - p.y()) - (r.x() - p.x()) * (q.y() - p.y());
+    };
+    std::vector<Base_location> saved;
+    saved.reserve(vs.size());
+    for (internal::WV x : vs) {
+      Base_location& l = P_[0][x];
+      saved.push_back(l);
+      const Point_2 q = pt(l.b);
+      // The piece holding q: the one where q's smallest barycentric is largest (pieces tile t).
+      std::size_t piece = 0;
+      double best = -HUGE_VAL;
+      std::array<double, 3> c{};
+      for (std::size_t i = 0; i < src.size(); ++i) {
+        const auto& T = src[i];
+        const double d = area2(T[0], T[1], T[2]);
+        const double c0 = area2(q, T[1], T[2]) / d, c1 = area2(T[0], q, T[2]) / d, c2 = 1 - c0 - c1;
+        const double mn = std::min({c0, c1, c2});
+        if (mn > best) best = mn, piece = i, c = {c0, c1, c2};
+      }
+      const auto& D = dst[piece];
+      const double x1 = c[0] * D[0].x() + c[1] * D[1].x() + c[2] * D[2].x();
+      const double x2 = c[0] * D[0].y() + c[1] * D[1].y() + c[2] * D[2].y();
+      std::array<double, 3> nb{1 - x1 - x2, x1, x2};
+      for (int i = 0; i < 3; ++i)
+        if (l.b[i] == 0 || nb[i] < 0) nb[i] = 0; // the sides are fixed
+      const double sum = nb[0] + nb[1] + nb[2];
+      for (double& y : nb) y /= sum;
+      l.b = nb;
+    }
+    for (internal::WV x : vs)
+      for (internal::WF f : CGAL::faces_around_target(B_.side[0].m.halfedge(x), B_.side[0].m))
+        if (P_[0].face_orientation(f) != CGAL::POSITIVE) {
+          for (std::size_t i = 0; i < vs.size(); ++i) P_[0][vs[i]] = saved[i];
+          return false;
+        }
+    return true;
   }
 
   Input_location vertex_to_input(int side, std::size_t v) const {
