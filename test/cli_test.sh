@@ -99,10 +99,29 @@ fi
 # The demo.
 if "$cli" demo -o "$work/demo" --quiet; then
   for f in source.off target.off features.txt source_patches.txt report.json source_to_target.txt \
-           target_to_source.txt source_checker.obj target_checker.obj checker.png checker.mtl; do
+           target_to_source.txt source_checker.obj target_checker.obj checker.png checker.mtl \
+           source_compatible.off target_compatible.off target_error.ply morph/frame_000.off morph/frame_008.off; do
     [ -s "$work/demo/$f" ] || bad "demo: missing $f"
   done
+  # The source-shaped output starts with the source's vertices, unchanged.
+  nv=$(sed -n 2p "$work/demo/source.off" | awk '{print $1}')
+  cmp -s <(sed -n "3,$((nv + 2))p" "$work/demo/source.off") <(sed -n "3,$((nv + 2))p" "$work/demo/source_compatible.off") ||
+    bad "remesh: source_compatible.off does not start with the source's vertices"
+  # Same face lists.
+  ns=$(sed -n 2p "$work/demo/source_compatible.off" | awk '{print $1}')
+  cmp -s <(tail -n +$((ns + 3)) "$work/demo/source_compatible.off") <(tail -n +$((ns + 3)) "$work/demo/target_compatible.off") ||
+    bad "remesh: the two outputs have different faces"
   ok
+  # morph rejects meshes that are not compatible, and bad frame counts.
+  expect_error morph-incompatible "not compatible" -- morph "$work/demo/source.off" "$work/demo/target.off" --frames 3 -o "$work/out"
+  expect_error morph-frames "frames" -- morph "$work/demo/source_compatible.off" "$work/demo/target_compatible.off" --frames 1 -o "$work/out"
+  expect_error remesh-tolerance "tolerance" -- remesh "$work/octa.off" "$work/octa.off" --features "$work/f4.txt" -o "$work/out" --tolerance -1
+  if "$cli" morph "$work/demo/source_compatible.off" "$work/demo/target_compatible.off" --frames 3 -o "$work/m3" --quiet; then
+    [ -s "$work/m3/frame_002.off" ] && [ ! -e "$work/m3/frame_003.off" ] || bad "morph: wrong frames"
+    ok
+  else
+    bad "morph of the demo's outputs failed"
+  fi
 else
   bad "demo failed"
 fi
@@ -128,6 +147,15 @@ if [ -d "$shared/bench/wolf0_wolf2" ]; then
     ok
   else
     bad "map on wolf0_wolf2 failed"
+  fi
+  if "$cli" remesh "$b/source.off" "$b/target.off" --features "$b/features.txt" -o "$work/wolfremesh" --quiet; then
+    for f in source_compatible.off target_compatible.off target_error.ply report.json; do
+      [ -s "$work/wolfremesh/$f" ] || bad "remesh: missing $f"
+    done
+    grep -q '"psnr"' "$work/wolfremesh/report.json" || bad "remesh: no PSNR in the report"
+    ok
+  else
+    bad "remesh on wolf0_wolf2 failed"
   fi
 else
   echo "shared data not found at $shared: skipping the bench case"

@@ -2,11 +2,16 @@
 // The crossparam command-line tool: thin; parses arguments, calls the library, writes files.
 //
 //   crossparam layout SOURCE TARGET --features FILE -o DIR   patch layouts (paper §3)
+//   crossparam map SOURCE TARGET --features FILE -o DIR      cross-parameterization (§4)
+//   crossparam remesh SOURCE TARGET --features FILE -o DIR   compatible remeshing (§5)
+//   crossparam morph A B --frames N -o DIR                   morph between two compatible meshes
 //   crossparam demo -o DIR                                   the built-in example, end to end
 //
 // Errors: one line on stderr, exit code 1 for bad input, 2 for bad usage, 3 for an internal failure.
 // Outputs are computed completely before anything is written, and each file is written atomically.
+#include <crossparam/compatible_remeshing.h>
 #include <crossparam/cross_parameterization.h>
+#include <crossparam/morph.h>
 #include <crossparam/io.h>
 #include <crossparam/patch_layout.h>
 #include <crossparam/render.h>
@@ -16,6 +21,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <iomanip>
 #include <iostream>
 #include <map>
 #include <sstream>
@@ -35,8 +41,14 @@ const char* const usage_text =
     "      topologically identical triangular patch layouts of two closed genus-0 meshes (paper section 3)\n"
     "  map SOURCE TARGET --features FILE -o DIR\n"
     "      cross-parameterization (paper section 4): the bijective map between the meshes, certified\n"
+    "  remesh SOURCE TARGET --features FILE -o DIR [--tolerance PCT]\n"
+    "      compatible remeshing (paper section 5): two meshes with one connectivity, one reproducing SOURCE,\n"
+    "      the other approximating TARGET\n"
+    "  morph A B --frames N -o DIR\n"
+    "      N meshes interpolating between two compatible meshes (e.g. the outputs of remesh)\n"
     "  demo -o DIR\n"
-    "      generate two creatures in code, pick corresponding features, run the pipeline on them\n"
+    "      generate two creatures in code, pick corresponding features, run the whole pipeline on them\n"
+    "      (layout, map, remesh, and a morph sequence)\n"
     "\n"
     "options:\n"
     "  --features FILE   feature correspondence: one 'source_vertex target_vertex' pair per line,\n"
@@ -45,6 +57,9 @@ const char* const usage_text =
     "  --no-flips        skip the path flips of section 3.3\n"
     "  --iterations N    smoothing passes at most (map; default 200)\n"
     "  --no-smoothing    skip the smoothing of section 4.2 (map)\n"
+    "  --tolerance PCT   remesh: approximation tolerance in percent of the target's bounding-box diagonal\n"
+    "                    (default 0.5)\n"
+    "  --frames N        morph: number of meshes written, both ends included (default 9)\n"
     "  --png             also render pictures of the results (needs POV-Ray: apt-get install povray)\n"
     "  --up X,Y,Z        the models' up direction in the pictures (default 0,0,1)\n"
     "  --view X,Y,Z      direction from the model towards the camera (default 1,-1.6,0.6)\n"
@@ -67,6 +82,8 @@ struct Options {
   bool png = false;
   bool smoothing = true;
   unsigned iterations = 200;
+  double tolerance = 0.5;
+  unsigned frames = 9;
   Render_options render;
 };
 
@@ -105,6 +122,20 @@ Options parse(int argc, char** argv) {
       unsigned long n = std::strtoul(v.c_str(), &end, 10);
       if (v.empty() || *end != '\0' || n > 100000) throw Usage_error("--iterations needs a whole number up to 100000");
       o.iterations = unsigned(n);
+    }
+    else if (a == "--tolerance") {
+      std::string v = value();
+      char* end = nullptr;
+      double t = std::strtod(v.c_str(), &end);
+      if (v.empty() || *end != '\0' || !(t > 0) || !(t <= 100)) throw Usage_error("--tolerance needs a percentage in (0, 100]");
+      o.tolerance = t;
+    }
+    else if (a == "--frames") {
+      std::string v = value();
+      char* end = nullptr;
+      unsigned long n = std::strtoul(v.c_str(), &end, 10);
+      if (v.empty() || *end != '\0' || n < 2 || n > 10000) throw Usage_error("--frames needs a whole number from 2 to 10000");
+      o.frames = unsigned(n);
     }
     else if (a == "--quiet" || a == "-q") o.quiet = true;
     else if (a == "-h" || a == "--help") throw Usage_error("");
@@ -417,6 +448,135 @@ int run_map(const Options& o) {
   return 0;
 }
 
+using Remesher = Compatible_remesher<Surface_mesh, Surface_mesh>;
+
+/// Blue (no error) through white to red (at or above the tolerance).
+std::array<unsigned char, 3> error_color(double e, double tolerance) {
+  const double x = std::min(1.0, std::max(0.0, e / tolerance));
+  auto c = [](double a, double b, double t) { return static_cast<unsigned char>(std::lround(a + (b - a) * t)); };
+  if (x < 0.5) return {c(40, 255, 2 * x), c(80, 255, 2 * x), c(220, 255, 2 * x)};
+  return {c(255, 220, 2 * x - 1), c(255, 40, 2 * x - 1), c(255, 30, 2 * x - 1)};
+}
+
+/// Writes the outputs of `crossparam remesh` into o.output.
+void write_remesh(const Options& o, const Map& cp, const Remesher& r, double read_s) {
+  fs::create_directories(o.output);
+  auto out = [&](const std::string& name) { return (fs::path(o.output) / name).string(); };
+  write_off(out("source_compatible.off"), r.source_points(), r.faces());
+  write_off(out("target_compatible.off"), r.target_points(), r.faces());
+  std::vector<std::array<unsigned char, 3>> colors;
+  for (double e : r.vertex_error()) colors.push_back(error_color(e, o.tolerance));
+  write_ply_vertex_colored(out("target_error.ply"), r.target_points(), r.faces(), colors);
+  if (o.png) render_png(Render_mesh{r.target_points(), r.faces(), {}, colors}, out("target_error.png"), o.render);
+  const Remeshing_statistics& S = r.statistics();
+  const Cross_parameterization_statistics& C = cp.statistics();
+  const double added = 100.0 * (double(S.output_vertices) - double(S.source_vertices)) / double(S.source_vertices);
+  write_file_atomically(out("report.json"), [&](std::ostream& os) {
+    os << "{\n  \"stage\": \"remesh\",\n";
+    os << "  \"source_vertices\": " << S.source_vertices << ",\n  \"target_vertices\": " << S.target_vertices << ",\n";
+    os << "  \"features\": " << C.layout.features << ",\n";
+    os << "  \"layout_vertices\": " << S.layout_vertices << ",\n";
+    os << "  \"output_vertices\": " << S.output_vertices << ",\n  \"output_faces\": " << S.output_faces << ",\n";
+    os << "  \"added_vertices_percent\": " << json_number(added) << ",\n";
+    os << "  \"refinement_splits\": " << S.refinement_splits << ",\n  \"pseudo_flips\": " << S.pseudo_flips << ",\n";
+    os << "  \"tolerance_percent\": " << json_number(S.tolerance) << ",\n";
+    os << "  \"error_initial\": {\"max_percent\": " << json_number(S.max_error_initial)
+       << ", \"l2_percent\": " << json_number(S.l2_error_initial) << "},\n";
+    os << "  \"error\": {\"max_percent\": " << json_number(S.max_error) << ", \"l2_percent\": " << json_number(S.l2_error)
+       << ", \"psnr\": " << json_number(S.psnr) << ", \"max_chord_percent\": " << json_number(S.max_chord_error) << "},\n";
+    os << "  \"converged\": " << (S.converged ? "true" : "false") << ",\n";
+    os << "  \"flipped_faces\": " << S.flipped_faces << ",\n";
+    os << "  \"certificate\": " << (r.certificate().valid ? "true" : "false") << ",\n";
+    os << "  \"iterations\": {\"smoothing_rounds\": " << S.smoothing_rounds << ", \"refinement_rounds\": " << S.refinement_rounds << "},\n";
+    os << "  \"seconds\": {\"read\": " << json_number(read_s) << ", \"layout\": " << json_number(C.layout.seconds_total)
+       << ", \"parameterization\": " << json_number(C.seconds_parameterization)
+       << ", \"smoothing\": " << json_number(C.seconds_smoothing) << ", \"map_total\": " << json_number(C.seconds_total)
+       << ", \"adaptive_smoothing\": " << json_number(S.seconds_smoothing)
+       << ", \"refinement\": " << json_number(S.seconds_refinement) << ", \"pseudo_flips\": " << json_number(S.seconds_flips)
+       << ", \"certificate\": " << json_number(S.seconds_certificate) << ", \"remesh_total\": " << json_number(S.seconds_total)
+       << "}\n}\n";
+  });
+  if (!o.quiet) {
+    std::cout << "remesh: " << S.source_vertices << " -> " << S.output_vertices << " vertices (" << json_number(added)
+              << "% added), error max " << json_number(S.max_error) << "%, L2 " << json_number(S.l2_error) << "%, PSNR "
+              << json_number(S.psnr) << (S.converged ? "" : " (tolerance not reached everywhere)") << "; "
+              << json_number(C.seconds_total + S.seconds_total) << " s\n";
+    std::cout << "wrote " << o.output << "/\n";
+  }
+}
+
+/// Progress lines on stderr unless --quiet.
+std::function<void(const std::string&)> progress_printer(const Options& o) {
+  if (o.quiet) return {};
+  return [](const std::string& line) { std::cerr << line << "\n"; };
+}
+
+int run_remesh(const Options& o) {
+  Inputs in = read_inputs(o);
+  Map cp = compute_map(o, in.source.mesh, in.target.mesh, in.features);
+  Remesher r(cp, crossparam::parameters::tolerance(o.tolerance, crossparam::parameters::progress(progress_printer(o))));
+  write_remesh(o, cp, r, in.seconds);
+  return 0;
+}
+
+/// Writes frame_000.off ... between two compatible soups; with --png a picture per frame and morph_strip.png.
+void write_morph(const Options& o, const Polygon_soup& a, const Polygon_soup& b) {
+  fs::create_directories(o.output);
+  std::vector<std::array<std::size_t, 3>> tris;
+  for (const auto& p : a.polygons) tris.push_back({p[0], p[1], p[2]});
+  // One frame for every picture: the union of both ends' boxes keeps the sequence steady.
+  Render_options ro = o.render;
+  ro.fixed_frame = true;
+  ro.frame_min = {HUGE_VAL, HUGE_VAL, HUGE_VAL};
+  ro.frame_max = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  for (const auto* soup : {&a, &b})
+    for (const auto& p : soup->points)
+      for (int i = 0; i < 3; ++i) ro.frame_min[i] = std::min(ro.frame_min[i], p[i]), ro.frame_max[i] = std::max(ro.frame_max[i], p[i]);
+  // The strip: up to five frames side by side, spread along the picture's horizontal.
+  Render_mesh strip;
+  const std::array<double, 3> right = internal::unit3(internal::cross3(o.render.view_direction, o.render.up));
+  double width = 0;
+  for (int i = 0; i < 3; ++i) width += (ro.frame_max[i] - ro.frame_min[i]) * std::abs(right[i]);
+  const unsigned strip_frames = std::min(o.frames, 5u);
+  std::vector<unsigned> strip_of(o.frames, ~0u);
+  for (unsigned slot = 0; slot < strip_frames; ++slot)
+    strip_of[std::size_t(std::lround(double(slot) * (o.frames - 1) / double(strip_frames - 1)))] = slot;
+  for (unsigned k = 0; k < o.frames; ++k) {
+    const double t = double(k) / double(o.frames - 1);
+    std::vector<std::array<double, 3>> pts = morph(a.points, b.points, t);
+    std::ostringstream name;
+    name << "frame_" << std::setw(3) << std::setfill('0') << k;
+    write_off((fs::path(o.output) / (name.str() + ".off")).string(), pts, tris);
+    if (o.png) {
+      render_png(Render_mesh{pts, tris, {}, {}}, (fs::path(o.output) / (name.str() + ".png")).string(), ro);
+      if (strip_of[k] != ~0u) {
+        const std::size_t base = strip.points.size();
+        const double shift = 1.1 * width * strip_of[k];
+        for (const auto& p : pts) strip.points.push_back({p[0] + shift * right[0], p[1] + shift * right[1], p[2] + shift * right[2]});
+        for (const auto& f : tris) strip.triangles.push_back({f[0] + base, f[1] + base, f[2] + base});
+      }
+    }
+    if (!o.quiet) std::cerr << "morph: frame " << k + 1 << "/" << o.frames << "\n";
+  }
+  if (o.png) {
+    Render_options so = o.render;
+    so.height = 320;
+    so.width = 300 * int(strip_frames);
+    so.zoom = 1.0;
+    render_png(strip, (fs::path(o.output) / "morph_strip.png").string(), so);
+  }
+  if (!o.quiet) std::cout << "morph: " << o.frames << " frames of " << a.points.size() << " vertices; wrote " << o.output << "/\n";
+}
+
+int run_morph(const Options& o) {
+  if (o.positional.size() != 2) throw Usage_error("morph needs two compatible meshes A and B");
+  if (o.output.empty()) throw Usage_error("morph needs -o DIR");
+  Polygon_soup a = read_polygon_soup(o.positional[0]), b = read_polygon_soup(o.positional[1]);
+  check_compatible(a, b, o.positional[0], o.positional[1]);
+  write_morph(o, a, b);
+  return 0;
+}
+
 int run_demo(const Options& o) {
   if (o.output.empty()) throw Usage_error("demo needs -o DIR");
   Timer tg;
@@ -440,6 +600,17 @@ int run_demo(const Options& o) {
   Map cp = compute_map(o, a, b, f);
   write_layout(o, a, b, cp.layout(), {{"generate", gen_s}});
   write_map(o, cp, gen_s);
+  Remesher r(cp, crossparam::parameters::tolerance(o.tolerance, crossparam::parameters::progress(progress_printer(o))));
+  write_remesh(o, cp, r, gen_s);
+  // The morph sequence between the two compatible meshes.
+  Polygon_soup sa, sb;
+  sa.points = r.source_points();
+  sb.points = r.target_points();
+  for (const auto& t : r.faces()) sa.polygons.push_back({t[0], t[1], t[2]});
+  sb.polygons = sa.polygons;
+  Options mo = o;
+  mo.output = (fs::path(o.output) / "morph").string();
+  write_morph(mo, sa, sb);
   return 0;
 }
 
@@ -452,6 +623,8 @@ int main(int argc, char** argv) {
       throw Error("--png needs POV-Ray, which is not installed (apt-get install povray)");
     if (o.command == "layout") return run_layout(o);
     if (o.command == "map") return run_map(o);
+    if (o.command == "remesh") return run_remesh(o);
+    if (o.command == "morph") return run_morph(o);
     if (o.command == "demo") return run_demo(o);
     if (o.command == "-h" || o.command == "--help" || o.command == "help") {
       std::cout << usage_text;

@@ -254,22 +254,7 @@ public:
   }
 
   /// Base location of a work location.
-  Base_location work_to_base(int side, const internal::Work_location& l) const {
-    const auto& m = B_.side[side].m;
-    internal::WH h = m.halfedge(l.face);
-    internal::WV vs[3] = {m.source(h), m.target(h), m.target(m.next(h))};
-    for (int i = 0; i < 3; ++i)
-      if (l.b[i] == 1.0) return P_[side][vs[i]];
-    std::array<const Base_location*, 3> ls{&P_[side][vs[0]], &P_[side][vs[1]], &P_[side][vs[2]]};
-    std::array<internal::Point_2, 3> p;
-    int c, n;
-    base_.canonical_frame(ls, c, n, p);
-    internal::Point_2 q(l.b[0] * p[0].x() + l.b[1] * p[1].x() + l.b[2] * p[2].x(),
-                        l.b[0] * p[0].y() + l.b[1] * p[1].y() + l.b[2] * p[2].y());
-    Base_location out;
-    if (!base_.locate_in_chart(c, q, out)) out = *ls[0]; // cannot happen: q is inside the chart
-    return out;
-  }
+  Base_location work_to_base(int side, const internal::Work_location& l) const { return P_[side].at(l.face, l.b); }
 
   /// A work location on mesh `side` as an input location (face of the input, barycentrics in input order).
   Input_location work_to_input(int side, const internal::Work_location& l) const {

@@ -96,6 +96,7 @@ void make_work_mesh(const TriangleMesh& tm, VertexPointMap vpm, Layout_mesh& out
                   &c = out.m.point(out.m.target(out.m.next(h)));
     vol += CGAL::scalar_product(a - CGAL::ORIGIN, CGAL::cross_product(b - CGAL::ORIGIN, c - CGAL::ORIGIN));
   }
+  out.reversed = vol < 0;
   if (vol < 0) CGAL::Polygon_mesh_processing::reverse_face_orientations(out.m);
   for (std::size_t f = 0; f < tris.size(); ++f) { // the soup builder keeps the face order: check it
     std::array<std::size_t, 3> got;
@@ -107,6 +108,8 @@ void make_work_mesh(const TriangleMesh& tm, VertexPointMap vpm, Layout_mesh& out
     if (a != b) throw Algorithm_error("internal error: mesh copy did not keep the face order");
   }
   out.init(tris);
+  out.input_points.clear();
+  for (const Point_3& p : points) out.input_points.push_back({p.x(), p.y(), p.z()});
 }
 
 template <class TriangleMesh>

@@ -52,11 +52,18 @@ private:
 
 namespace internal {
 
-/// The local smoother of §4.2 over one mesh's base parameterization.
-template <class Weights>
+/// Acceptance policy of the local smoother that accepts every move the exact flip test allows.
+struct Accept_all {
+  bool operator()(WV, const Base_location&) const { return true; }
+};
+
+/// The local smoother of §4.2 over one mesh's base parameterization. `Accept` may veto a move that is valid
+/// over the base mesh (the remeshing uses it to keep the target-shaped mesh from folding over in 3D); it is
+/// called with the vertex and its proposed location, before the vertex is moved.
+template <class Weights, class Accept = Accept_all>
 class Local_smoother {
 public:
-  Local_smoother(Base_parameterization& p, const Weights& w) : p_(p), w_(w) {}
+  Local_smoother(Base_parameterization& p, const Weights& w, Accept accept = Accept()) : p_(p), w_(w), accept_(accept) {}
 
   /// One pass over all vertices. Returns the largest move (base-edge units).
   double pass(Smoothing_report& r) {
@@ -106,6 +113,11 @@ public:
             valid = false;
             break;
           }
+        if (valid) {
+          p_[v] = before;
+          valid = accept_(v, moved);
+          p_[v] = moved;
+        }
         if (!valid) {
           p_[v] = before;
           ++r.rejected;
@@ -142,6 +154,7 @@ private:
 
   Base_parameterization& p_;
   const Weights& w_;
+  Accept accept_;
 };
 
 } // namespace internal

@@ -36,6 +36,15 @@ struct Polygon_soup {
   std::vector<std::vector<std::size_t>> polygons;
 };
 
+namespace internal {
+/// Normal of triangle (a, b, c), not normalised; the zero vector for a degenerate triangle (unlike
+/// CGAL::normal, whose precondition rejects it).
+template <class P>
+auto triangle_normal(const P& a, const P& b, const P& c) {
+  return CGAL::cross_product(b - a, c - a);
+}
+} // namespace internal
+
 } // namespace crossparam
 
 #endif // CROSSPARAM_TYPES_H

@@ -74,6 +74,36 @@ struct Base_parameterization {
                                       loc[mesh->m.target(mesh->m.next(h))], fits);
   }
 
+  /// The base location of a point given by barycentrics `b` (halfedge order of face f: source(h), target(h),
+  /// target(next(h)), h = halfedge(f)) on a mesh face: the piecewise-linear map evaluated in the face's chart.
+  Base_location at(WF f, const std::array<double, 3>& b) const {
+    const Work_mesh& m = mesh->m;
+    WH h = m.halfedge(f);
+    WV vs[3] = {m.source(h), m.target(h), m.target(m.next(h))};
+    for (int i = 0; i < 3; ++i)
+      if (b[i] == 1.0) return loc[vs[i]];
+    std::array<const Base_location*, 3> ls{&loc[vs[0]], &loc[vs[1]], &loc[vs[2]]};
+    std::array<Point_2, 3> p;
+    int c, n;
+    if (!base->canonical_frame(ls, c, n, p)) throw Algorithm_error("internal error: face outside every chart");
+    Point_2 q(b[0] * p[0].x() + b[1] * p[1].x() + b[2] * p[2].x(), b[0] * p[0].y() + b[1] * p[1].y() + b[2] * p[2].y());
+    Base_location out;
+    if (!base->locate_in_chart(c, q, out)) out = *ls[0]; // cannot happen: q is inside the chart
+    return out;
+  }
+
+  /// The base location of the point u + t (v - u) of mesh edge (u, v).
+  Base_location between(WV u, WV v, double t) const {
+    const Work_mesh& m = mesh->m;
+    WH h = m.halfedge(u, v);
+    if (m.face(h) == Work_mesh::null_face()) h = m.opposite(h);
+    WH hf = m.halfedge(m.face(h));
+    std::array<double, 3> b{{0, 0, 0}};
+    WV vs[3] = {m.source(hf), m.target(hf), m.target(m.next(hf))};
+    for (int i = 0; i < 3; ++i) b[i] = vs[i] == u ? 1 - t : (vs[i] == v ? t : 0.0);
+    return at(m.face(h), b);
+  }
+
   /// §4.1: boundary by arc length on the base triangle sides, interior by mean-value coordinates, one sparse
   /// LU factorization per patch solved for both coordinates. `face_tri` is the base triangle of each face
   /// (the patch labels of the layout); `path_ends` the features of each path id.

@@ -73,6 +73,31 @@ using Halfedge_path = std::vector<WH>;
 /// The working copy of one input mesh with its partial layout.
 class Layout_mesh {
 public:
+  Layout_mesh() = default;
+  /// Copies rebind the property maps to the copy's own mesh.
+  Layout_mesh(const Layout_mesh& o) { *this = o; }
+  Layout_mesh& operator=(const Layout_mesh& o) {
+    if (this == &o) return *this;
+    m = o.m;
+    vfeature = m.property_map<WV, int>("v:cp_feature").first;
+    vpath = m.property_map<WV, int>("v:cp_path").first;
+    epath = m.property_map<WE, int>("e:cp_path").first;
+    forig = m.property_map<WF, int>("f:cp_orig").first;
+    feature_vertex = o.feature_vertex;
+    splits = o.splits;
+    paths = o.paths;
+    n_original_vertices = o.n_original_vertices;
+    n_original_faces = o.n_original_faces;
+    center = o.center;
+    scale = o.scale;
+    input_points = o.input_points;
+    reversed = o.reversed;
+    orig_tri = o.orig_tri;
+    vrep = o.vrep;
+    desc = o.desc;
+    return *this;
+  }
+
   Work_mesh m;
   Work_mesh::Property_map<WV, int> vfeature; ///< feature id of a vertex, or no_feature
   Work_mesh::Property_map<WV, int> vpath;    ///< path id if the vertex is interior to a path, else no_path
@@ -88,6 +113,22 @@ public:
   /// A working point back in input coordinates.
   std::array<double, 3> input_point(const Point_3& p) const {
     return {p.x() * scale + center[0], p.y() * scale + center[1], p.z() * scale + center[2]};
+  }
+  /// The input vertices exactly as given (input coordinates, input order).
+  std::vector<std::array<double, 3>> input_points;
+  /// Whether the working faces are oriented opposite to the input's faces (the working copy faces outward).
+  bool reversed = false;
+  /// Vertex v in input coordinates, computed from its input face and barycentrics: exact for input vertices,
+  /// on the input face for split vertices.
+  std::array<double, 3> input_position(WV v) const {
+    const auto& r = vrep[v];
+    std::array<double, 3> p{{0, 0, 0}};
+    for (int i = 0; i < 3; ++i) {
+      if (r.second[i] == 0) continue;
+      const auto& q = input_points[orig_tri[r.first][i]];
+      for (int k = 0; k < 3; ++k) p[k] += r.second[i] * q[k];
+    }
+    return p;
   }
   /// Original face of every face: faces keep their index, split faces inherit it.
   Work_mesh::Property_map<WF, int> forig;
@@ -505,8 +546,11 @@ public:
     return CGAL::centroid(m.point(m.source(h)), m.point(m.target(h)), m.point(m.target(m.next(h))));
   }
 
-  WV split_edge(WV u, WV v) {
-    Point_3 p = CGAL::midpoint(m.point(u), m.point(v));
+  /// Splits edge (u, v) at u + t (v - u) (the midpoint by default), keeping every bookkeeping up to date.
+  WV split_edge(WV u, WV v, double t = 0.5) {
+    const Point_3 &pu = m.point(u), &pv = m.point(v);
+    Point_3 p = t == 0.5 ? CGAL::midpoint(pu, pv)
+                         : Point_3(pu.x() + t * (pv.x() - pu.x()), pu.y() + t * (pv.y() - pu.y()), pu.z() + t * (pv.z() - pu.z()));
     WH h = m.halfedge(u, v);
     const int oa = forig[m.face(h)], ob = forig[m.face(m.opposite(h))];
     const WV xa = m.target(m.next(h)); // opposite corner on h's side: its faces inherit oa, the others ob
@@ -519,15 +563,15 @@ public:
         throw Algorithm_error("internal error: split edge lies in no original face");
     }
     WV w = split_edge_and_triangulate(m, m.points(), u, v, p);
-    splits.push_back({std::size_t(u), std::size_t(v), std::size_t(w), 0.5});
+    splits.push_back({std::size_t(u), std::size_t(v), std::size_t(w), t});
     if (!desc.empty()) {
       std::vector<float> dm(desc[u].size());
-      for (std::size_t k = 0; k < dm.size(); ++k) dm[k] = 0.5f * (desc[u][k] + desc[v][k]);
+      for (std::size_t k = 0; k < dm.size(); ++k) dm[k] = float((1 - t) * desc[u][k] + t * desc[v][k]);
       if (desc.size() <= std::size_t(w)) desc.resize(std::size_t(w) + 1);
       desc[w] = std::move(dm);
     }
     if (vrep.size() <= std::size_t(w)) vrep.resize(std::size_t(w) + 1);
-    vrep[w] = {o, {0.5 * (ru[0] + rv[0]), 0.5 * (ru[1] + rv[1]), 0.5 * (ru[2] + rv[2])}};
+    vrep[w] = {o, {(1 - t) * ru[0] + t * rv[0], (1 - t) * ru[1] + t * rv[1], (1 - t) * ru[2] + t * rv[2]}};
     for (WF f : CGAL::faces_around_target(m.halfedge(w), m)) {
       bool has_a = false;
       for (WV x : CGAL::vertices_around_face(m.halfedge(f), m)) has_a |= (x == xa);

@@ -1,0 +1,617 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Compatible remeshing (Kraevoy & Sheffer 2004, §5): two meshes with the connectivity of the (refined) source,
+// one reproducing the source exactly, the other approximating the target within a user tolerance.
+//
+// The source connectivity is carried onto the target by the cross-parameterization F (the mesh M_st). Then,
+// in a loop: the approximation error e(v) at the target vertices (Eq. 1), Gaussian-smoothed; adaptive smoothing
+// of the source's parameterization with error-driven edge weights (Eq. 2) through the same Local_smoother as
+// §4.2; edge splits where the error stays high once smoothing stops helping (§5.3); finally "pseudo" edge flips
+// (§5.4): edges whose flip would bring the faces' normals closer to the target's are split at the crossing of
+// the two diagonals instead. Splits are applied to the source mesh and M_st together (they share connectivity);
+// a new vertex lies on a source edge, and its image is F of it, on the target. No vertex is removed and no edge
+// is flipped, so the source geometry is kept exactly, and every step keeps the parameterization one-to-one
+// (exact orientation tests), which is certified again at the end.
+#ifndef CROSSPARAM_COMPATIBLE_REMESHING_H
+#define CROSSPARAM_COMPATIBLE_REMESHING_H
+
+#include <crossparam/cross_parameterization.h>
+
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+
+#include <functional>
+
+namespace crossparam {
+
+namespace internal_np {
+struct tolerance_t {};          ///< double, percent of the target's bounding-box diagonal (default 0.5)
+struct normal_deviation_t {};   ///< double, degrees (default 30)
+struct progress_t {};           ///< std::function<void(const std::string&)>
+struct remeshing_weights_t {};  ///< a model of RemeshingWeights (default Error_driven_weights)
+struct refinement_rule_t {};    ///< a model of RefinementRule (default Half_max_refinement)
+struct max_rounds_t {};         ///< unsigned (default 30)
+} // namespace internal_np
+
+namespace parameters {
+/// \brief Approximation tolerance ε of §5, in percent of the target's bounding-box diagonal; default 0.5.
+template <typename NP = CGAL::parameters::Default_named_parameters>
+CGAL::Named_function_parameters<double, internal_np::tolerance_t, NP>
+tolerance(double percent, const NP& np = CGAL::parameters::default_values()) {
+  return CGAL::Named_function_parameters<double, internal_np::tolerance_t, NP>(percent, np);
+}
+/// \brief Pseudo edge flips (§5.4) for faces whose normal deviates from the target's by more than this many
+/// degrees; default 30. A value of 180 or more disables them.
+template <typename NP = CGAL::parameters::Default_named_parameters>
+CGAL::Named_function_parameters<double, internal_np::normal_deviation_t, NP>
+normal_deviation(double degrees, const NP& np = CGAL::parameters::default_values()) {
+  return CGAL::Named_function_parameters<double, internal_np::normal_deviation_t, NP>(degrees, np);
+}
+/// \brief A callback receiving one line of text per step (the library never prints).
+template <typename NP = CGAL::parameters::Default_named_parameters>
+CGAL::Named_function_parameters<std::function<void(const std::string&)>, internal_np::progress_t, NP>
+progress(std::function<void(const std::string&)> f, const NP& np = CGAL::parameters::default_values()) {
+  return CGAL::Named_function_parameters<std::function<void(const std::string&)>, internal_np::progress_t, NP>(f, np);
+}
+/// \brief The weights policy of the adaptive smoothing (§5.2), a model of `RemeshingWeights`.
+template <typename T, typename NP = CGAL::parameters::Default_named_parameters>
+CGAL::Named_function_parameters<T, internal_np::remeshing_weights_t, NP>
+remeshing_weights(const T& w, const NP& np = CGAL::parameters::default_values()) {
+  return CGAL::Named_function_parameters<T, internal_np::remeshing_weights_t, NP>(w, np);
+}
+/// \brief The refinement rule (§5.3), a model of `RefinementRule`.
+template <typename T, typename NP = CGAL::parameters::Default_named_parameters>
+CGAL::Named_function_parameters<T, internal_np::refinement_rule_t, NP>
+refinement_rule(const T& r, const NP& np = CGAL::parameters::default_values()) {
+  return CGAL::Named_function_parameters<T, internal_np::refinement_rule_t, NP>(r, np);
+}
+/// \brief Smoothing-and-refinement rounds at most; default 30.
+template <typename NP = CGAL::parameters::Default_named_parameters>
+CGAL::Named_function_parameters<unsigned, internal_np::max_rounds_t, NP>
+max_rounds(unsigned n, const NP& np = CGAL::parameters::default_values()) {
+  return CGAL::Named_function_parameters<unsigned, internal_np::max_rounds_t, NP>(n, np);
+}
+} // namespace parameters
+
+/// Weights policy of the adaptive smoothing (§5.2, Eq. 2): the weight of edge (u, v) is the running average
+/// w_uv <- (e_uv + w_uv) / 2 of its error e_uv, so vertices are drawn towards badly approximated regions without
+/// jumping back and forth. Multiplied by the shape-preserving mean-value weights of the source (§4.2), so that
+/// where the error is uniform the smoothing keeps the low-distortion map instead of flattening it (the paper
+/// uses the error weights alone; measured worse here: more added vertices for the same tolerance).
+/// A model of `RemeshingWeights`: `prepare(mesh)` after every connectivity change, `update(mesh, e)` with the
+/// error of every edge (indexed by edge), and `operator()(h)`, a positive weight, as `SmoothingWeights`.
+class Error_driven_weights {
+public:
+  /// `shape`: whether to multiply by the mean-value weights (default true).
+  explicit Error_driven_weights(bool shape = true) : shape_(shape) {}
+
+  void prepare(const internal::Work_mesh& m) {
+    if (shape_) mv_.prepare(m);
+    w_.resize(m.number_of_edges(), -1.0);
+  }
+  void update(const internal::Work_mesh& m, const std::vector<double>& e) {
+    w_.resize(m.number_of_edges(), -1.0);
+    double mean = 0;
+    for (double x : e) mean += x;
+    mean /= double(std::max<std::size_t>(1, e.size()));
+    const double floor = 0.1 * mean + 1e-12; // keeps every weight positive where the error vanishes
+    for (std::size_t i = 0; i < e.size(); ++i) {
+      const double x = (e[i] + floor) / (mean + 1e-300); // relative: the scale of the weights is irrelevant
+      w_[i] = w_[i] < 0 ? x : 0.5 * (x + w_[i]);
+    }
+  }
+  double operator()(internal::WH h) const {
+    const double w = w_[std::size_t(h) / 2];
+    return shape_ ? w * mv_(h) : w;
+  }
+
+private:
+  bool shape_;
+  Mean_value_weights mv_;
+  std::vector<double> w_;
+};
+
+/// Refinement rule of §5.3: split the edges whose error exceeds max(½ · the largest edge error, ε).
+/// A model of `RefinementRule`: `double threshold(double max_edge_error, double epsilon)`.
+struct Half_max_refinement {
+  double threshold(double max_edge_error, double epsilon) const { return std::max(0.5 * max_edge_error, epsilon); }
+};
+
+/// Figures of one compatible remeshing. Errors are in percent of the target's bounding-box diagonal.
+struct Remeshing_statistics {
+  std::size_t source_vertices = 0, target_vertices = 0; ///< of the inputs
+  std::size_t layout_vertices = 0;  ///< of the source after the layout and adjacency splits (before §5)
+  std::size_t output_vertices = 0, output_faces = 0;
+  std::size_t refinement_splits = 0; ///< §5.3
+  std::size_t pseudo_flips = 0;      ///< §5.4
+  unsigned smoothing_rounds = 0, refinement_rounds = 0;
+  double tolerance = 0;              ///< ε, percent
+  double max_error_initial = 0, l2_error_initial = 0; ///< e(v) of M_st right after the projection
+  double max_error = 0, l2_error = 0; ///< e(v) of the result (max and root mean square over target vertices)
+  double max_chord_error = 0;        ///< largest distance of an output edge midpoint from the target surface
+  double psnr = 0;                   ///< 20 log10(diagonal / L2 error), as the paper's Table 2
+  std::size_t flipped_faces = 0;     ///< output faces whose normal opposes the target's where they land
+  bool converged = false;            ///< max error <= tolerance
+  double seconds_cross_parameterization = 0, seconds_smoothing = 0, seconds_refinement = 0, seconds_flips = 0,
+         seconds_certificate = 0, seconds_total = 0;
+};
+
+/// \brief Compatible remeshing (paper §5) of the two meshes of a cross-parameterization.
+///
+/// Works on a copy of the source side of `cp` (the cross-parameterization itself is not changed). The results
+/// are two meshes with one face list: `source_points()` reproduce the source (the first `source_vertices`
+/// points are the input source vertices, exactly, in input order; the others lie on source edges) and
+/// `target_points()` lie on the target. Points are in input coordinates, faces oriented as the input source.
+///
+/// Named parameters: `tolerance` (percent, default 0.5), `normal_deviation` (degrees, default 30),
+/// `max_rounds` (default 30), `remeshing_weights` (default `Error_driven_weights`), `refinement_rule` (default
+/// `Half_max_refinement`), `progress` (callback, one line per step).
+template <class SourceMesh, class TargetMesh>
+class Compatible_remesher {
+public:
+  using Cross_param = Cross_parameterization<SourceMesh, TargetMesh>;
+
+  template <typename NP = CGAL::parameters::Default_named_parameters>
+  explicit Compatible_remesher(const Cross_param& cp, const NP& np = CGAL::parameters::default_values())
+      : cp_(cp), T_(cp.work().side[1]), PT_(cp.parameterization(1)), locT_(cp.locator(1)) {
+    using CGAL::parameters::choose_parameter;
+    using CGAL::parameters::get_parameter;
+    const auto t0 = clock::now();
+    S_ = cp.work().side[0];
+    P_ = cp.parameterization(0);
+    P_.mesh = &S_;
+    stats_.source_vertices = S_.n_original_vertices;
+    stats_.target_vertices = T_.n_original_vertices;
+    stats_.layout_vertices = S_.m.number_of_vertices();
+    stats_.tolerance = choose_parameter(get_parameter(np, internal_np::tolerance_t()), 0.5);
+    if (!(stats_.tolerance > 0) || !std::isfinite(stats_.tolerance))
+      throw Input_error("remeshing tolerance must be a positive number of percent");
+    const double max_dev = choose_parameter(get_parameter(np, internal_np::normal_deviation_t()), 30.0);
+    const unsigned max_rounds = choose_parameter(get_parameter(np, internal_np::max_rounds_t()), 30u);
+    progress_ = choose_parameter(get_parameter(np, internal_np::progress_t()), std::function<void(const std::string&)>());
+    auto weights = choose_parameter(get_parameter(np, internal_np::remeshing_weights_t()), Error_driven_weights());
+    const auto rule = choose_parameter(get_parameter(np, internal_np::refinement_rule_t()), Half_max_refinement());
+    // Working coordinates have a unit bounding-box diagonal: ε in percent is ε / 100 there.
+    eps_ = stats_.tolerance / 100.0;
+
+    measure();
+    stats_.max_error_initial = 100 * max_e_;
+    stats_.l2_error_initial = 100 * l2_e_;
+    say("remesh: projected the source connectivity onto the target: max error " + fmt(100 * max_e_) + "%, L2 " +
+        fmt(100 * l2_e_) + "% (tolerance " + fmt(stats_.tolerance) + "%), " + std::to_string(flipped_) + " flipped faces, max chord " + fmt(100 * max_chord_) + "%");
+
+    // §5.2-5.3: adaptive smoothing while it lowers the error, edge splits when it stops doing so.
+    weights.prepare(S_.m);
+    // A smoothing move must not fold M_st over against the target where it did not already.
+    auto accept = [this](internal::WV v, const Base_location& moved) {
+      const internal::Work_location lv = locT_.locate(moved);
+      const Point_3 pv = target_point(lv);
+      const auto& m = S_.m;
+      for (internal::WH h : CGAL::halfedges_around_target(m.halfedge(v), m)) {
+        if (m.is_border(h)) continue;
+        internal::WV a = m.target(m.next(h)), b = m.target(m.next(m.next(h)));
+        if (!flipped(pos_[v], img_[v].face, pos_[a], img_[a].face, pos_[b], img_[b].face) &&
+            flipped(pv, lv.face, pos_[a], img_[a].face, pos_[b], img_[b].face))
+          return false;
+      }
+      img_[v] = lv; // the move is accepted: keep M_st current for the next vertices
+      pos_[v] = pv;
+      return true;
+    };
+    internal::Local_smoother<decltype(weights), decltype(accept)> smoother(P_, weights, accept);
+    Smoothing_report sr;
+    for (unsigned round = 0; round < max_rounds && !converged(); ++round) {
+      const auto ts = clock::now();
+      weights.update(S_.m, edge_error_);
+      const std::vector<Base_location> before = P_.loc;
+      const double before_max = max_e_, before_l2 = l2_e_;
+      for (int i = 0; i < 3; ++i) smoother.pass(sr);
+      ++stats_.smoothing_rounds;
+      measure();
+      stats_.seconds_smoothing += sec(ts, clock::now());
+      if (l2_e_ < 0.98 * before_l2 && max_e_ <= 1.05 * before_max) continue; // smoothing still helps
+      if (l2_e_ > before_l2) { // it made things worse: undo the round
+        P_.loc = before;
+        measure();
+      }
+      // Smoothing no longer lowers the error: refine.
+      const auto tr = clock::now();
+      const std::size_t n = refine(rule);
+      ++stats_.refinement_rounds;
+      weights.prepare(S_.m);
+      measure();
+      stats_.seconds_refinement += sec(tr, clock::now());
+      say("remesh: round " + std::to_string(round + 1) + ": " + std::to_string(n) + " edge splits, " +
+          std::to_string(S_.m.number_of_vertices()) + " vertices, max error " + fmt(100 * max_e_) + "%, L2 " +
+          fmt(100 * l2_e_) + "%, " + std::to_string(flipped_) + " flipped, chord " + fmt(100 * max_chord_) + "%");
+      if (n == 0) break;
+      if (S_.m.number_of_vertices() > 4 * stats_.layout_vertices) {
+        say("remesh: stopped refining at four times the source's vertex count");
+        break;
+      }
+    }
+
+    // §5.4: pseudo edge flips.
+    const auto tf = clock::now();
+    if (max_dev < 180) {
+      stats_.pseudo_flips = pseudo_flips(std::cos(max_dev * CGAL_PI / 180.0));
+      measure();
+      say("remesh: " + std::to_string(stats_.pseudo_flips) + " pseudo edge flips, " + std::to_string(flipped_) + " flipped faces, max chord " + fmt(100 * max_chord_) + "%");
+    }
+    stats_.seconds_flips = sec(tf, clock::now());
+
+    // The parameterization of the remeshed source must still be one-to-one.
+    const auto tc = clock::now();
+    cert_ = P_.certify();
+    if (!cert_.valid) throw Algorithm_error("remeshed source parameterization failed its certificate: " + cert_.message);
+    stats_.seconds_certificate = sec(tc, clock::now());
+
+    build_outputs();
+    stats_.max_error = 100 * max_e_;
+    stats_.l2_error = 100 * l2_e_;
+    stats_.max_chord_error = 100 * max_chord_;
+    stats_.psnr = l2_e_ > 0 ? 20 * std::log10(1.0 / l2_e_) : HUGE_VAL;
+    stats_.converged = converged();
+    stats_.output_vertices = S_.m.number_of_vertices();
+    stats_.output_faces = S_.m.number_of_faces();
+    stats_.seconds_cross_parameterization = cp.statistics().seconds_total;
+    stats_.seconds_total = sec(t0, clock::now());
+    say("remesh: " + std::to_string(stats_.output_vertices) + " vertices (source " +
+        std::to_string(stats_.source_vertices) + "), max error " + fmt(stats_.max_error) + "%, L2 " +
+        fmt(stats_.l2_error) + "%, PSNR " + fmt(stats_.psnr) + (stats_.converged ? "" : " (tolerance not reached)"));
+  }
+
+  /// The common face list (indices into both point lists), oriented as the input source.
+  const std::vector<std::array<std::size_t, 3>>& faces() const { return faces_; }
+  /// The source-shaped mesh's points, input coordinates; the first `statistics().source_vertices` are the
+  /// input source's vertices exactly.
+  const std::vector<std::array<double, 3>>& source_points() const { return src_pts_; }
+  /// The target-shaped mesh's points (on the target), input coordinates.
+  const std::vector<std::array<double, 3>>& target_points() const { return tgt_pts_; }
+  /// Approximation error at each output vertex (percent of the target's diagonal): the smoothed e(v) field of
+  /// the target read where the vertex lands (§5.1), for pictures.
+  const std::vector<double>& vertex_error() const { return verr_; }
+  /// Where each output vertex lands on the target, against the target as given.
+  const std::vector<Input_location>& target_locations() const { return tgt_loc_; }
+  const Remeshing_statistics& statistics() const { return stats_; }
+  const Bijectivity_certificate& certificate() const { return cert_; }
+
+  /// Copies the source-shaped (side 0) or target-shaped (side 1) result into `out`, any MutableFaceGraph.
+  template <class OutputMesh>
+  void copy_to(int side, OutputMesh& out) const {
+    using P3 = typename boost::property_traits<
+        typename boost::property_map<OutputMesh, CGAL::vertex_point_t>::type>::value_type;
+    std::vector<P3> pts;
+    for (const auto& p : side == 0 ? src_pts_ : tgt_pts_) pts.emplace_back(p[0], p[1], p[2]);
+    std::vector<std::vector<std::size_t>> polys;
+    for (const auto& f : faces_) polys.push_back({f[0], f[1], f[2]});
+    clear(out);
+    CGAL::Polygon_mesh_processing::polygon_soup_to_polygon_mesh(pts, polys, out);
+  }
+
+private:
+  using clock = std::chrono::steady_clock;
+  static double sec(clock::time_point a, clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
+  static std::string fmt(double x) {
+    std::ostringstream s;
+    s.precision(4);
+    s << x;
+    return s.str();
+  }
+  void say(const std::string& s) const {
+    if (progress_) progress_(s);
+  }
+  bool converged() const { return max_e_ <= eps_ && max_edge_chord_ <= eps_; }
+
+  Point_3 target_point(const internal::Work_location& l) const {
+    const auto& m = T_.m;
+    internal::WH h = m.halfedge(l.face);
+    const Point_3 &a = m.point(m.source(h)), &b = m.point(m.target(h)), &c = m.point(m.target(m.next(h)));
+    return Point_3(l.b[0] * a.x() + l.b[1] * b.x() + l.b[2] * c.x(), l.b[0] * a.y() + l.b[1] * b.y() + l.b[2] * c.y(),
+                   l.b[0] * a.z() + l.b[1] * b.z() + l.b[2] * c.z());
+  }
+  Kernel::Vector_3 target_normal(internal::WF f) const {
+    const auto& m = T_.m;
+    internal::WH h = m.halfedge(f);
+    return internal::triangle_normal(m.point(m.source(h)), m.point(m.target(h)), m.point(m.target(m.next(h))));
+  }
+  /// Whether triangle (a, b, c) of M_st, its corners on target faces fa, fb, fc, is flipped: its normal opposes
+  /// the target's at every corner (a face across a sharp crease agrees with one side of it: a chord).
+  bool flipped(const Point_3& a, internal::WF fa, const Point_3& b, internal::WF fb, const Point_3& c,
+               internal::WF fc) const {
+    const Kernel::Vector_3 n = internal::triangle_normal(a, b, c);
+    return n * target_normal(fa) < 0 && n * target_normal(fb) < 0 && n * target_normal(fc) < 0;
+  }
+  double target_field(const std::vector<double>& f, const internal::Work_location& l) const {
+    const auto& m = T_.m;
+    internal::WH h = m.halfedge(l.face);
+    return l.b[0] * f[m.source(h)] + l.b[1] * f[m.target(h)] + l.b[2] * f[m.target(m.next(h))];
+  }
+
+  /// Images of the source vertices (M_st), e(v) at the target vertices (Eq. 1) and its smoothed field, the
+  /// error of every source edge (Eq. 2) and the global figures.
+  void measure() {
+    const auto& ms = S_.m;
+    img_.resize(ms.number_of_vertices());
+    pos_.resize(ms.number_of_vertices());
+    for (internal::WV v : ms.vertices()) {
+      img_[v] = locT_.locate(P_[v]);
+      pos_[v] = target_point(img_[v]);
+    }
+    // e(v) = |F' F^-1 (v) - v|: the preimage of target vertex v on the source, carried to M_st linearly.
+    locS_.build(P_);
+    const auto& mt = T_.m;
+    std::vector<double>& e = e_;
+    e.assign(mt.number_of_vertices(), 0.0);
+    max_e_ = 0;
+    double sum2 = 0;
+    for (internal::WV v : mt.vertices()) {
+      internal::Work_location l = locS_.locate(PT_[v]);
+      internal::WH h = ms.halfedge(l.face);
+      const Point_3 &a = pos_[ms.source(h)], &b = pos_[ms.target(h)], &c = pos_[ms.target(ms.next(h))];
+      Point_3 q(l.b[0] * a.x() + l.b[1] * b.x() + l.b[2] * c.x(), l.b[0] * a.y() + l.b[1] * b.y() + l.b[2] * c.y(),
+                l.b[0] * a.z() + l.b[1] * b.z() + l.b[2] * c.z());
+      e[v] = std::sqrt(CGAL::squared_distance(q, mt.point(v)));
+      max_e_ = std::max(max_e_, e[v]);
+      sum2 += e[v] * e[v];
+    }
+    l2_e_ = std::sqrt(sum2 / double(std::max<std::size_t>(1, mt.number_of_vertices())));
+    // Gaussian smoothing: each vertex averaged with its neighbours.
+    es_.assign(mt.number_of_vertices(), 0.0);
+    for (internal::WV v : mt.vertices()) {
+      double s = e[v], n = 1;
+      for (internal::WV w : CGAL::vertices_around_target(mt.halfedge(v), mt)) s += e[w], n += 1;
+      es_[v] = s / n;
+    }
+    // Eq. 2 per source edge, with the chord deviation of M_st's edge from the target at the midpoint (the
+    // other side of the Hausdorff distance, which e(v) at target vertices alone does not see).
+    edge_error_.assign(ms.number_of_edges(), 0.0);
+    edge_chord_.assign(ms.number_of_edges(), 0.0);
+    max_chord_ = max_edge_chord_ = 0;
+    for (internal::WE ed : ms.edges()) {
+      internal::WH h = ms.halfedge(ed);
+      internal::WV u = ms.source(h), v = ms.target(h);
+      const internal::Work_location lm = locT_.locate(P_.between(u, v, 0.5));
+      const Point_3 pm = target_point(lm);
+      const double chord = std::sqrt(CGAL::squared_distance(CGAL::midpoint(pos_[u], pos_[v]), pm));
+      edge_chord_[ed] = chord;
+      max_edge_chord_ = std::max(max_edge_chord_, chord);
+      max_chord_ = std::max(max_chord_, chord);
+      const double eu = target_field(es_, img_[u]), ev = target_field(es_, img_[v]);
+      const double em = std::max(target_field(es_, lm), chord);
+      edge_error_[ed] = 0.5 * (0.5 * (eu + ev) + em);
+    }
+    // Per face of M_st: the chord deviation at the centroid (reported), and whether the face is flipped.
+    flipped_ = 0;
+    for (internal::WF f : ms.faces()) {
+      internal::WH h = ms.halfedge(f);
+      const Point_3 &a = pos_[ms.source(h)], &b = pos_[ms.target(h)], &c = pos_[ms.target(ms.next(h))];
+      const internal::Work_location l = locT_.locate(P_.at(f, {1.0 / 3, 1.0 / 3, 1.0 / 3}));
+      const double chord = std::sqrt(CGAL::squared_distance(CGAL::centroid(a, b, c), target_point(l)));
+      max_chord_ = std::max(max_chord_, chord);
+      // Flipped: the normal opposes the target's under the centroid and under each corner (a face across a
+      // sharp crease of the target agrees with one side of it: a chord, not a flip).
+      const Kernel::Vector_3 n = internal::triangle_normal(a, b, c);
+      bool flipped = n * target_normal(l.face) < 0;
+      for (internal::WV x : CGAL::vertices_around_face(h, ms)) flipped = flipped && n * target_normal(img_[x].face) < 0;
+      flipped_ += flipped;
+    }
+  }
+
+  /// Splits edge (u, v) of the source at parameter t, on the source and in its parameterization, if the four
+  /// new faces stay positively oriented over the base mesh (exact test). Returns whether it split.
+  bool split(internal::WV u, internal::WV v, double t) {
+    const auto& m = S_.m;
+    const Base_location w = P_.between(u, v, t);
+    internal::WH h = m.halfedge(u, v);
+    const internal::WV x = m.target(m.next(h)), y = m.target(m.next(m.opposite(h)));
+    const internal::Base_mesh& B = *P_.base;
+    auto pos = [&](const Base_location& a, const Base_location& b, const Base_location& c) {
+      return B.triangle_orientation(a, b, c) == CGAL::POSITIVE;
+    };
+    if (!(pos(P_[u], w, P_[x]) && pos(w, P_[v], P_[x]) && pos(P_[v], w, P_[y]) && pos(w, P_[u], P_[y]))) return false;
+    // Nor may M_st gain a face flipped against the target (where the old faces were not).
+    const internal::Work_location lw = locT_.locate(w);
+    const Point_3 pw = target_point(lw);
+    const bool was = flipped(pos_[u], img_[u].face, pos_[v], img_[v].face, pos_[x], img_[x].face) ||
+                     flipped(pos_[v], img_[v].face, pos_[u], img_[u].face, pos_[y], img_[y].face);
+    if (!was && (flipped(pos_[u], img_[u].face, pw, lw.face, pos_[x], img_[x].face) ||
+                 flipped(pw, lw.face, pos_[v], img_[v].face, pos_[x], img_[x].face) ||
+                 flipped(pos_[v], img_[v].face, pw, lw.face, pos_[y], img_[y].face) ||
+                 flipped(pw, lw.face, pos_[u], img_[u].face, pos_[y], img_[y].face)))
+      return false;
+    const internal::WV nw = S_.split_edge(u, v, t);
+    if (std::size_t(nw) != P_.loc.size()) throw Algorithm_error("internal error: split vertex out of order");
+    P_.loc.push_back(w);
+    img_.push_back(lw);
+    pos_.push_back(pw);
+    return true;
+  }
+
+  /// §5.3: splits the edges above the rule's threshold (Eq. 2 error), the edges of M_st whose midpoint is
+  /// farther than ε from the target, and, for every target vertex still beyond ε, the longest edge of the face
+  /// holding its preimage. Returns the number of splits.
+  template <class Rule>
+  std::size_t refine(const Rule& rule) {
+    const auto& m = S_.m;
+    double emax = 0;
+    for (double x : edge_error_) emax = std::max(emax, x);
+    const double thr = rule.threshold(emax, eps_);
+    std::vector<std::pair<internal::WV, internal::WV>> todo;
+    std::vector<char> mark(m.number_of_edges(), 0);
+    auto add = [&](internal::WH h) {
+      if (mark[m.edge(h)]) return;
+      mark[m.edge(h)] = 1;
+      todo.push_back({m.source(h), m.target(h)});
+    };
+    // The longest edge of a face of M_st.
+    auto longest = [&](internal::WH h) {
+      internal::WH best = h;
+      double bl = -1;
+      for (internal::WH g : CGAL::halfedges_around_face(h, m)) {
+        double len = CGAL::squared_distance(pos_[m.source(g)], pos_[m.target(g)]);
+        if (len > bl) bl = len, best = g;
+      }
+      return best;
+    };
+    for (internal::WE e : m.edges())
+      if (edge_error_[e] > thr || edge_chord_[e] > eps_) add(m.halfedge(e));
+    // Every target vertex still beyond the tolerance gets a split in the face of its preimage, so that each
+    // round makes progress everywhere (the rule above alone treats one error peak after the other).
+    const auto& mt = T_.m;
+    for (internal::WV v : mt.vertices()) {
+      if (!(e_[v] > eps_)) continue;
+      const internal::Work_location l = locS_.locate(PT_[v]);
+      add(longest(m.halfedge(l.face)));
+    }
+    std::size_t n = 0;
+    for (const auto& [u, v] : todo)
+      if (m.halfedge(u, v) != internal::WH()) {
+        // At the midpoint if that folds nothing over, else elsewhere on the edge.
+        // An edge of M_st already shorter than half the tolerance is not split: a large error there comes from
+        // a spot where F changes abruptly (a squeezed protrusion), which halving would chase forever.
+        bool done = false;
+        if (CGAL::squared_distance(pos_[u], pos_[v]) > 0.25 * eps_ * eps_)
+          for (double t : {0.5, 0.375, 0.625, 0.25, 0.75})
+            if ((done = split(u, v, t))) break;
+        if (done) ++n;
+      }
+    stats_.refinement_splits += n;
+    return n;
+  }
+
+  /// §5.4: an edge (u, v) with opposite corners x, y whose faces deviate from the target's normal by more
+  /// than the threshold, and whose flip (x, y) would deviate less, is split where the diagonals (u, v) and
+  /// (x, y) cross in the base domain: the new vertex's image is the point of the target between x and y, which
+  /// reproduces the flip's change of normals while the source keeps its geometry.
+  std::size_t pseudo_flips(double cos_max) {
+    const auto& m = S_.m;
+    // Target normal at a point: its face's normal (faces of the target are planar).
+    auto target_normal = [&](const internal::Work_location& l) {
+      const auto& mt = T_.m;
+      internal::WH h = mt.halfedge(l.face);
+      Kernel::Vector_3 n = internal::triangle_normal(mt.point(mt.source(h)), mt.point(mt.target(h)), mt.point(mt.target(mt.next(h))));
+      double len = std::sqrt(n.squared_length());
+      return len > 0 ? n / len : n;
+    };
+    // Cosine between the normal of triangle (a, b, c) of M_st and the target's normal under its centroid.
+    auto agreement = [&](internal::WV a, internal::WV b, internal::WV c) {
+      Kernel::Vector_3 n = internal::triangle_normal(pos_[a], pos_[b], pos_[c]);
+      double len = std::sqrt(n.squared_length());
+      if (!(len > 0)) return -1.0;
+      Base_location centroid;
+      {
+        std::array<const Base_location*, 3> ls{&P_[a], &P_[b], &P_[c]};
+        std::array<internal::Point_2, 3> p;
+        int fc, fn;
+        if (!P_.base->canonical_frame(ls, fc, fn, p)) return -1.0;
+        internal::Point_2 q((p[0].x() + p[1].x() + p[2].x()) / 3, (p[0].y() + p[1].y() + p[2].y()) / 3);
+        if (!P_.base->locate_in_chart(fc, q, centroid)) return -1.0;
+      }
+      return (n / len) * target_normal(locT_.locate(centroid));
+    };
+    struct Candidate {
+      internal::WV u, v;
+      double t;
+      double gain;
+    };
+    std::vector<Candidate> cands;
+    for (internal::WE e : m.edges()) {
+      internal::WH h = m.halfedge(e);
+      internal::WV u = m.source(h), v = m.target(h), x = m.target(m.next(h)), y = m.target(m.next(m.opposite(h)));
+      const double now = std::min(agreement(u, v, x), agreement(v, u, y));
+      if (now >= cos_max) continue;
+      const double flipped = std::min(agreement(x, y, v), agreement(y, x, u));
+      if (!(flipped > now)) continue;
+      // Where the diagonals cross in the base domain, as a parameter along (u, v).
+      std::array<const Base_location*, 4> ls{&P_[u], &P_[v], &P_[x], &P_[y]};
+      std::array<internal::Point_2, 4> p;
+      int fc, fn;
+      if (!P_.base->canonical_frame(ls, fc, fn, p)) continue;
+      if (CGAL::orientation(p[2], p[3], p[0]) == CGAL::orientation(p[2], p[3], p[1])) continue; // not convex
+      const double d0 = CGAL::area(p[2], p[3], p[0]), d1 = CGAL::area(p[2], p[3], p[1]);
+      const double t = d0 / (d0 - d1);
+      if (!(t > 0.05 && t < 0.95)) continue;
+      cands.push_back({u, v, t, flipped - now});
+    }
+    std::sort(cands.begin(), cands.end(), [](const Candidate& a, const Candidate& b) { return a.gain > b.gain; });
+    // One split per face per pass: a split changes its neighbours' configuration.
+    std::vector<char> touched(m.number_of_vertices(), 0);
+    std::size_t n = 0;
+    for (const Candidate& c : cands) {
+      if (touched[c.u] || touched[c.v]) continue;
+      internal::WH h = m.halfedge(c.u, c.v);
+      if (h == internal::WH()) continue;
+      if (!split(c.u, c.v, c.t)) continue;
+      touched[c.u] = touched[c.v] = 1;
+      touched.resize(m.number_of_vertices(), 1);
+      ++n;
+    }
+    return n;
+  }
+
+  void build_outputs() {
+    const auto& m = S_.m;
+    faces_.clear();
+    for (internal::WF f : m.faces()) {
+      internal::WH h = m.halfedge(f);
+      std::array<std::size_t, 3> t{std::size_t(m.source(h)), std::size_t(m.target(h)), std::size_t(m.target(m.next(h)))};
+      if (S_.reversed) std::swap(t[1], t[2]);
+      faces_.push_back(t);
+    }
+    src_pts_.clear();
+    tgt_pts_.clear();
+    tgt_loc_.clear();
+    verr_.clear();
+    for (internal::WV v : m.vertices()) {
+      src_pts_.push_back(S_.input_position(v));
+      const Input_location l = cp_.work_to_input(1, img_[v]);
+      tgt_loc_.push_back(l);
+      std::array<double, 3> q{{0, 0, 0}};
+      for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k) q[k] += l.b[i] * T_.input_points[T_.orig_tri[l.face][i]][k];
+      tgt_pts_.push_back(q);
+      verr_.push_back(100 * target_field(es_, img_[v]));
+    }
+    stats_.flipped_faces = flipped_;
+  }
+
+  const Cross_param& cp_;
+  const internal::Layout_mesh& T_;
+  const internal::Base_parameterization& PT_;
+  const internal::Base_locator& locT_;
+  internal::Layout_mesh S_;
+  internal::Base_parameterization P_;
+  internal::Base_locator locS_;
+  std::vector<internal::Work_location> img_; ///< per source vertex: its image on the target (M_st)
+  std::vector<Point_3> pos_;                 ///< per source vertex: M_st's point (working coordinates)
+  std::vector<double> e_, es_;               ///< e(v) per target vertex, and smoothed
+  std::vector<double> edge_error_;           ///< Eq. 2 per source edge
+  std::vector<double> edge_chord_;           ///< per source edge: M_st's edge midpoint's distance from F(midpoint)
+  std::size_t flipped_ = 0;
+  double max_e_ = 0, l2_e_ = 0, max_chord_ = 0, max_edge_chord_ = 0, eps_ = 0;
+  std::function<void(const std::string&)> progress_;
+  std::vector<std::array<std::size_t, 3>> faces_;
+  std::vector<std::array<double, 3>> src_pts_, tgt_pts_;
+  std::vector<Input_location> tgt_loc_;
+  std::vector<double> verr_;
+  Bijectivity_certificate cert_;
+  Remeshing_statistics stats_;
+};
+
+/// \brief One-shot compatible remeshing: cross-parameterizes `source` and `target` (§3-4; the meshes are
+/// refined in place as by `Cross_parameterization`), remeshes (§5), and writes the source-shaped and the
+/// target-shaped results into `out_source` and `out_target` (any MutableFaceGraph; same face order, same
+/// vertex order). `np` carries the named parameters of both stages.
+template <class SourceMesh, class TargetMesh, class OutputMesh, typename NP = CGAL::parameters::Default_named_parameters>
+Remeshing_statistics compatible_remesh(SourceMesh& source, TargetMesh& target, const Feature_correspondence& features,
+                                       OutputMesh& out_source, OutputMesh& out_target,
+                                       const NP& np = CGAL::parameters::default_values()) {
+  Cross_parameterization<SourceMesh, TargetMesh> cp(source, target, features, np);
+  Compatible_remesher<SourceMesh, TargetMesh> r(cp, np);
+  r.copy_to(0, out_source);
+  r.copy_to(1, out_target);
+  return r.statistics();
+}
+
+} // namespace crossparam
+
+#endif // CROSSPARAM_COMPATIBLE_REMESHING_H

@@ -1,0 +1,130 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Independent checks of a compatible remeshing (paper §5), trusting nothing the remesher computed: the two
+// outputs share one face list; the target-shaped mesh is within the tolerance of the target by a two-sided
+// Hausdorff distance (CGAL's bounded-error algorithm, not the remesher's e(v)); the source-shaped mesh lies on
+// the source; no target-shaped face is flipped against the target surface where it lies.
+#ifndef CROSSPARAM_REMESHING_VERIFICATION_H
+#define CROSSPARAM_REMESHING_VERIFICATION_H
+
+#include <crossparam/types.h>
+
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/Polygon_mesh_processing/compute_normal.h>
+#include <CGAL/Polygon_mesh_processing/distance.h>
+#include <CGAL/Polygon_mesh_processing/locate.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace crossparam {
+
+/// What `verify_compatible_remeshing` found. Distances in percent of the target's bounding-box diagonal
+/// (source distances: of the source's diagonal).
+struct Remeshing_verification {
+  bool compatible = false;          ///< same vertex count and the same face list
+  double hausdorff_target = 0;      ///< two-sided Hausdorff distance, target-shaped output vs target
+  double hausdorff_to_target = 0;   ///< one-sided parts of it: from the output to the target
+  double hausdorff_from_target = 0; ///< and from the target to the output
+  double hausdorff_source = 0;      ///< one-sided, from the source-shaped output to the source
+  std::size_t flipped_faces = 0;    ///< target-shaped faces whose normal opposes the target's under them
+  bool valid = false;               ///< compatible, both distances within bounds, nothing flipped
+  std::string message;              ///< empty when valid
+};
+
+namespace internal {
+
+template <class Mesh>
+std::vector<std::array<std::size_t, 3>> face_list(const Mesh& m) {
+  std::map<typename boost::graph_traits<Mesh>::vertex_descriptor, std::size_t> index;
+  std::size_t i = 0;
+  for (auto v : vertices(m)) index[v] = i++;
+  std::vector<std::array<std::size_t, 3>> out;
+  for (auto f : faces(m)) {
+    std::array<std::size_t, 3> t{};
+    int k = 0;
+    for (auto v : CGAL::vertices_around_face(halfedge(f, m), m)) {
+      if (k == 3) throw Input_error("compatibility check: a face is not a triangle");
+      t[k++] = index[v];
+    }
+    out.push_back(t);
+  }
+  return out;
+}
+
+template <class Mesh>
+double bbox_diagonal(const Mesh& m) {
+  CGAL::Bbox_3 b = CGAL::Polygon_mesh_processing::bbox(m);
+  return std::sqrt(CGAL::square(b.xmax() - b.xmin()) + CGAL::square(b.ymax() - b.ymin()) + CGAL::square(b.zmax() - b.zmin()));
+}
+
+} // namespace internal
+
+/// Whether two meshes have the same number of vertices and the same faces (as vertex index triples, in order).
+template <class MeshA, class MeshB>
+bool are_compatible(const MeshA& a, const MeshB& b) {
+  return num_vertices(a) == num_vertices(b) && internal::face_list(a) == internal::face_list(b);
+}
+
+/// \brief Checks the two outputs of a compatible remeshing against the inputs. `tolerance` is the promised
+/// bound in percent of the target's diagonal; `source_bound` the bound for the source side (default 1e-6 %).
+/// The Hausdorff distances are computed with CGAL's bounded-error algorithm to 1% of the tolerance.
+template <class Mesh>
+Remeshing_verification verify_compatible_remeshing(const Mesh& src, const Mesh& tgt, const Mesh& out_source,
+                                                   const Mesh& out_target, double tolerance,
+                                                   double source_bound = 1e-6) {
+  namespace PMP = CGAL::Polygon_mesh_processing;
+  Remeshing_verification r;
+  r.compatible = are_compatible(out_source, out_target);
+  const double dt = internal::bbox_diagonal(tgt), ds = internal::bbox_diagonal(src);
+  const double bound = 0.01 * tolerance / 100 * dt;
+  const double h1 = PMP::bounded_error_Hausdorff_distance<CGAL::Sequential_tag>(out_target, tgt, bound);
+  const double h2 = PMP::bounded_error_Hausdorff_distance<CGAL::Sequential_tag>(tgt, out_target, bound);
+  r.hausdorff_target = 100 * std::max(h1, h2) / dt;
+  r.hausdorff_to_target = 100 * h1 / dt;
+  r.hausdorff_from_target = 100 * h2 / dt;
+  r.hausdorff_source =
+      100 * PMP::bounded_error_Hausdorff_distance<CGAL::Sequential_tag>(out_source, src, 1e-3 * source_bound / 100 * ds) / ds;
+  // Flips: the normal of each output face against the target's normal at the point nearest its centroid.
+  using Primitive = CGAL::AABB_face_graph_triangle_primitive<Mesh>;
+  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<typename CGAL::Kernel_traits<
+      typename boost::property_traits<typename boost::property_map<Mesh, CGAL::vertex_point_t>::const_type>::value_type>::Kernel, Primitive>>;
+  Tree tree(faces(tgt).first, faces(tgt).second, tgt);
+  tree.accelerate_distance_queries();
+  // A face is flipped if its normal opposes the target's at the points nearest its centroid and its corners
+  // (a face across a sharp crease of the target agrees with one side: a chord, not a flip).
+  for (auto f : faces(out_target)) {
+    auto h = halfedge(f, out_target);
+    const auto &a = get(CGAL::vertex_point, out_target, source(h, out_target)),
+               &b = get(CGAL::vertex_point, out_target, target(h, out_target)),
+               &c = get(CGAL::vertex_point, out_target, target(next(h, out_target), out_target));
+    const auto n = internal::triangle_normal(a, b, c);
+    bool flipped = true;
+    for (const auto& p : {CGAL::centroid(a, b, c), a, b, c}) {
+      const auto hit = tree.closest_point_and_primitive(p);
+      auto g = halfedge(hit.second, tgt);
+      const auto nt = internal::triangle_normal(get(CGAL::vertex_point, tgt, source(g, tgt)), get(CGAL::vertex_point, tgt, target(g, tgt)),
+                                                get(CGAL::vertex_point, tgt, target(next(g, tgt), tgt)));
+      if (!(n * nt < 0)) {
+        flipped = false;
+        break;
+      }
+    }
+    if (flipped) ++r.flipped_faces;
+  }
+  r.valid = r.compatible && r.hausdorff_target <= tolerance && r.hausdorff_source <= source_bound &&
+            r.flipped_faces == 0;
+  if (!r.valid) {
+    r.message = std::string(r.compatible ? "" : "outputs are not compatible; ") + "target Hausdorff " +
+                std::to_string(r.hausdorff_target) + "% (" + std::to_string(r.hausdorff_to_target) + "% to it, " +
+                std::to_string(r.hausdorff_from_target) + "% from it; tolerance " + std::to_string(tolerance) + "%), source " +
+                std::to_string(r.hausdorff_source) + "%, " + std::to_string(r.flipped_faces) + " flipped faces";
+  }
+  return r;
+}
+
+} // namespace crossparam
+
+#endif // CROSSPARAM_REMESHING_VERIFICATION_H
