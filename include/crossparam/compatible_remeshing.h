@@ -22,55 +22,6 @@
 
 namespace crossparam {
 
-namespace internal_np {
-struct tolerance_t {};          ///< double, percent of the target's bounding-box diagonal (default 0.5)
-struct normal_deviation_t {};   ///< double, degrees (default 30)
-struct progress_t {};           ///< std::function<void(const std::string&)>
-struct remeshing_weights_t {};  ///< a model of RemeshingWeights (default Error_driven_weights)
-struct refinement_rule_t {};    ///< a model of RefinementRule (default Half_max_refinement)
-struct max_rounds_t {};         ///< unsigned (default 30)
-} // namespace internal_np
-
-namespace parameters {
-/// \brief Approximation tolerance ε of §5, in percent of the target's bounding-box diagonal; default 0.5.
-template <typename NP = CGAL::parameters::Default_named_parameters>
-CGAL::Named_function_parameters<double, internal_np::tolerance_t, NP>
-tolerance(double percent, const NP& np = CGAL::parameters::default_values()) {
-  return CGAL::Named_function_parameters<double, internal_np::tolerance_t, NP>(percent, np);
-}
-/// \brief Pseudo edge flips (§5.4) for faces whose normal deviates from the target's by more than this many
-/// degrees; default 30. A value of 180 or more disables them.
-template <typename NP = CGAL::parameters::Default_named_parameters>
-CGAL::Named_function_parameters<double, internal_np::normal_deviation_t, NP>
-normal_deviation(double degrees, const NP& np = CGAL::parameters::default_values()) {
-  return CGAL::Named_function_parameters<double, internal_np::normal_deviation_t, NP>(degrees, np);
-}
-/// \brief A callback receiving one line of text per step (the library never prints).
-template <typename NP = CGAL::parameters::Default_named_parameters>
-CGAL::Named_function_parameters<std::function<void(const std::string&)>, internal_np::progress_t, NP>
-progress(std::function<void(const std::string&)> f, const NP& np = CGAL::parameters::default_values()) {
-  return CGAL::Named_function_parameters<std::function<void(const std::string&)>, internal_np::progress_t, NP>(f, np);
-}
-/// \brief The weights policy of the adaptive smoothing (§5.2), a model of `RemeshingWeights`.
-template <typename T, typename NP = CGAL::parameters::Default_named_parameters>
-CGAL::Named_function_parameters<T, internal_np::remeshing_weights_t, NP>
-remeshing_weights(const T& w, const NP& np = CGAL::parameters::default_values()) {
-  return CGAL::Named_function_parameters<T, internal_np::remeshing_weights_t, NP>(w, np);
-}
-/// \brief The refinement rule (§5.3), a model of `RefinementRule`.
-template <typename T, typename NP = CGAL::parameters::Default_named_parameters>
-CGAL::Named_function_parameters<T, internal_np::refinement_rule_t, NP>
-refinement_rule(const T& r, const NP& np = CGAL::parameters::default_values()) {
-  return CGAL::Named_function_parameters<T, internal_np::refinement_rule_t, NP>(r, np);
-}
-/// \brief Smoothing-and-refinement rounds at most; default 30.
-template <typename NP = CGAL::parameters::Default_named_parameters>
-CGAL::Named_function_parameters<unsigned, internal_np::max_rounds_t, NP>
-max_rounds(unsigned n, const NP& np = CGAL::parameters::default_values()) {
-  return CGAL::Named_function_parameters<unsigned, internal_np::max_rounds_t, NP>(n, np);
-}
-} // namespace parameters
-
 /// Weights policy of the adaptive smoothing (§5.2, Eq. 2): the weight of edge (u, v) is the running average
 /// w_uv <- (e_uv + w_uv) / 2 of its error e_uv, so vertices are drawn towards badly approximated regions without
 /// jumping back and forth. Multiplied by the shape-preserving mean-value weights of the source (§4.2), so that
@@ -305,8 +256,7 @@ private:
     const auto& m = T_.m;
     internal::WH h = m.halfedge(l.face);
     const Point_3 &a = m.point(m.source(h)), &b = m.point(m.target(h)), &c = m.point(m.target(m.next(h)));
-    return Point_3(l.b[0] * a.x() + l.b[1] * b.x() + l.b[2] * c.x(), l.b[0] * a.y() + l.b[1] * b.y() + l.b[2] * c.y(),
-                   l.b[0] * a.z() + l.b[1] * b.z() + l.b[2] * c.z());
+    return internal::barycentric_point(a, b, c, l.b);
   }
   Kernel::Vector_3 target_normal(internal::WF f) const {
     const auto& m = T_.m;
@@ -347,8 +297,7 @@ private:
       internal::Work_location l = locS_.locate(PT_[v]);
       internal::WH h = ms.halfedge(l.face);
       const Point_3 &a = pos_[ms.source(h)], &b = pos_[ms.target(h)], &c = pos_[ms.target(ms.next(h))];
-      Point_3 q(l.b[0] * a.x() + l.b[1] * b.x() + l.b[2] * c.x(), l.b[0] * a.y() + l.b[1] * b.y() + l.b[2] * c.y(),
-                l.b[0] * a.z() + l.b[1] * b.z() + l.b[2] * c.z());
+      const Point_3 q = internal::barycentric_point(a, b, c, l.b);
       e[v] = std::sqrt(CGAL::squared_distance(q, mt.point(v)));
       max_e_ = std::max(max_e_, e[v]);
       sum2 += e[v] * e[v];
@@ -383,16 +332,14 @@ private:
     flipped_ = 0;
     for (internal::WF f : ms.faces()) {
       internal::WH h = ms.halfedge(f);
-      const Point_3 &a = pos_[ms.source(h)], &b = pos_[ms.target(h)], &c = pos_[ms.target(ms.next(h))];
+      const internal::WV x = ms.source(h), y = ms.target(h), z = ms.target(ms.next(h));
+      const Point_3 &a = pos_[x], &b = pos_[y], &c = pos_[z];
       const internal::Work_location l = locT_.locate(P_.at(f, {1.0 / 3, 1.0 / 3, 1.0 / 3}));
       const double chord = std::sqrt(CGAL::squared_distance(CGAL::centroid(a, b, c), target_point(l)));
       max_chord_ = std::max(max_chord_, chord);
-      // Flipped: the normal opposes the target's under the centroid and under each corner (a face across a
-      // sharp crease of the target agrees with one side of it: a chord, not a flip).
-      const Kernel::Vector_3 n = internal::triangle_normal(a, b, c);
-      bool flipped = n * target_normal(l.face) < 0;
-      for (internal::WV x : CGAL::vertices_around_face(h, ms)) flipped = flipped && n * target_normal(img_[x].face) < 0;
-      flipped_ += flipped;
+      // Flipped: the normal opposes the target's under each corner and under the centroid.
+      flipped_ += flipped(a, img_[x].face, b, img_[y].face, c, img_[z].face) &&
+                  internal::triangle_normal(a, b, c) * target_normal(l.face) < 0;
     }
   }
 

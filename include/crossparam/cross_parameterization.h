@@ -15,33 +15,6 @@
 
 namespace crossparam {
 
-namespace internal_np {
-struct smoothing_weights_t {};   ///< a model of SmoothingWeights (default Mean_value_weights)
-struct smoothing_tolerance_t {}; ///< double, base-edge units (default 1e-4)
-struct apply_smoothing_t {};     ///< bool (default true)
-} // namespace internal_np
-
-namespace parameters {
-/// \brief The weights policy of the §4.2 smoothing, a model of `SmoothingWeights`; default `Mean_value_weights`.
-template <typename T, typename NP = CGAL::parameters::Default_named_parameters>
-CGAL::Named_function_parameters<T, internal_np::smoothing_weights_t, NP>
-smoothing_weights(const T& w, const NP& np = CGAL::parameters::default_values()) {
-  return CGAL::Named_function_parameters<T, internal_np::smoothing_weights_t, NP>(w, np);
-}
-/// \brief Smoothing stops when no vertex moves farther than this (in base-triangle edge units); default 1e-4.
-template <typename NP = CGAL::parameters::Default_named_parameters>
-CGAL::Named_function_parameters<double, internal_np::smoothing_tolerance_t, NP>
-smoothing_tolerance(double t, const NP& np = CGAL::parameters::default_values()) {
-  return CGAL::Named_function_parameters<double, internal_np::smoothing_tolerance_t, NP>(t, np);
-}
-/// \brief Whether to smooth the parameterizations (§4.2); default true.
-template <typename NP = CGAL::parameters::Default_named_parameters>
-CGAL::Named_function_parameters<bool, internal_np::apply_smoothing_t, NP>
-apply_smoothing(bool b, const NP& np = CGAL::parameters::default_values()) {
-  return CGAL::Named_function_parameters<bool, internal_np::apply_smoothing_t, NP>(b, np);
-}
-} // namespace parameters
-
 /// Counts, figures and timings of one cross-parameterization.
 struct Cross_parameterization_statistics {
   Layout_statistics layout;
@@ -414,9 +387,6 @@ private:
       if (CGAL::orientation(src[i][0], src[i][1], src[i][2]) != CGAL::POSITIVE ||
           CGAL::orientation(dst[i][0], dst[i][1], dst[i][2]) != CGAL::POSITIVE)
         return false;
-    auto area2 = [](const Point_2& p, const Point_2& q, const Point_2& r) {
-      return (q.x() - p.x()) * (r.y() - p.y()) - (r.x() - p.x()) * (q.y() - p.y());
-    };
     std::vector<Base_location> saved;
     saved.reserve(vs.size());
     for (internal::WV x : vs) {
@@ -428,11 +398,9 @@ private:
       double best = -HUGE_VAL;
       std::array<double, 3> c{};
       for (std::size_t i = 0; i < src.size(); ++i) {
-        const auto& T = src[i];
-        const double d = area2(T[0], T[1], T[2]);
-        const double c0 = area2(q, T[1], T[2]) / d, c1 = area2(T[0], q, T[2]) / d, c2 = 1 - c0 - c1;
-        const double mn = std::min({c0, c1, c2});
-        if (mn > best) best = mn, piece = i, c = {c0, c1, c2};
+        const std::array<double, 3> ci = internal::barycentric_2(src[i][0], src[i][1], src[i][2], q);
+        const double mn = std::min({ci[0], ci[1], ci[2]});
+        if (mn > best) best = mn, piece = i, c = ci;
       }
       const auto& D = dst[piece];
       const double x1 = c[0] * D[0].x() + c[1] * D[1].x() + c[2] * D[2].x();
@@ -519,8 +487,7 @@ private:
       internal::Work_location l = locator_[1].locate(P_[0][v]);
       internal::WH h = mt.halfedge(l.face);
       const Point_3 &a = mt.point(mt.source(h)), &b = mt.point(mt.target(h)), &c = mt.point(mt.target(mt.next(h)));
-      image[v] = Point_3(l.b[0] * a.x() + l.b[1] * b.x() + l.b[2] * c.x(), l.b[0] * a.y() + l.b[1] * b.y() + l.b[2] * c.y(),
-                         l.b[0] * a.z() + l.b[1] * b.z() + l.b[2] * c.z());
+      image[v] = internal::barycentric_point(a, b, c, l.b);
     }
     std::vector<std::array<Point_3, 3>> from, to;
     for (internal::WF f : ms.faces()) {

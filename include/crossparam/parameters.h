@@ -15,6 +15,17 @@ struct edge_path_map_t {};      ///< edge -> int: id of the layout path on the e
 struct vertex_feature_map_t {}; ///< vertex -> int: feature index of the vertex, or -1
 struct apply_path_flips_t {};   ///< bool: run the path flips of §3.3 (default true)
 struct consistent_paths_t {};   ///< bool: descriptor-guided consistent matching paths (default true)
+// Cross-parameterization (cross_parameterization.h)
+struct smoothing_weights_t {};   ///< a model of SmoothingWeights (default Mean_value_weights)
+struct smoothing_tolerance_t {}; ///< double, base-edge units (default 1e-4)
+struct apply_smoothing_t {};     ///< bool (default true)
+// Compatible remeshing (compatible_remeshing.h)
+struct tolerance_t {};          ///< double, percent of the target's bounding-box diagonal (default 0.5)
+struct normal_deviation_t {};   ///< double, degrees (default 30)
+struct progress_t {};           ///< callable with a std::string (default none)
+struct remeshing_weights_t {};  ///< a model of RemeshingWeights (default Error_driven_weights)
+struct refinement_rule_t {};    ///< a model of RefinementRule (default Half_max_refinement)
+struct max_rounds_t {};         ///< unsigned (default 30)
 } // namespace internal_np
 
 namespace parameters {
@@ -37,6 +48,27 @@ CROSSPARAM_ADD_NAMED_PARAMETER(apply_path_flips)
 /// \brief `bool`, default `true`: trace each matching path pair so that the two paths agree in geodesic
 /// distances to the features (an addition to the paper; see the user manual).
 CROSSPARAM_ADD_NAMED_PARAMETER(consistent_paths)
+
+/// \brief The weights policy of the §4.2 smoothing, a model of `SmoothingWeights`; default `Mean_value_weights`.
+CROSSPARAM_ADD_NAMED_PARAMETER(smoothing_weights)
+/// \brief `double`, default 1e-4: smoothing stops when no vertex moves farther (in base-triangle edge units).
+CROSSPARAM_ADD_NAMED_PARAMETER(smoothing_tolerance)
+/// \brief `bool`, default `true`: whether to smooth the parameterizations (§4.2).
+CROSSPARAM_ADD_NAMED_PARAMETER(apply_smoothing)
+
+/// \brief `double`, default 0.5: approximation tolerance ε of §5, in percent of the target's bounding-box diagonal.
+CROSSPARAM_ADD_NAMED_PARAMETER(tolerance)
+/// \brief `double`, default 30: pseudo edge flips (§5.4) for faces whose normal deviates from the target's by
+/// more than this many degrees; 180 or more disables them.
+CROSSPARAM_ADD_NAMED_PARAMETER(normal_deviation)
+/// \brief A callable taking a `const std::string&`: one line of text per step (the library never prints).
+CROSSPARAM_ADD_NAMED_PARAMETER(progress)
+/// \brief The weights policy of the adaptive smoothing (§5.2), a model of `RemeshingWeights`.
+CROSSPARAM_ADD_NAMED_PARAMETER(remeshing_weights)
+/// \brief The refinement rule (§5.3), a model of `RefinementRule`.
+CROSSPARAM_ADD_NAMED_PARAMETER(refinement_rule)
+/// \brief `unsigned`, default 30: smoothing-and-refinement rounds at most.
+CROSSPARAM_ADD_NAMED_PARAMETER(max_rounds)
 
 #undef CROSSPARAM_ADD_NAMED_PARAMETER
 

@@ -16,6 +16,7 @@
 #include <CGAL/Polygon_mesh_processing/locate.h>
 
 #include <cmath>
+#include <map>
 #include <string>
 #include <vector>
 

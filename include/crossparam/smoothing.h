@@ -59,7 +59,7 @@ struct Accept_all {
 
 /// The local smoother of §4.2 over one mesh's base parameterization. `Accept` may veto a move that is valid
 /// over the base mesh (the remeshing uses it to keep the target-shaped mesh from folding over in 3D); it is
-/// called with the vertex and its proposed location, before the vertex is moved.
+/// called with the vertex and its proposed location once the exact test has passed.
 template <class Weights, class Accept = Accept_all>
 class Local_smoother {
 public:
@@ -113,11 +113,7 @@ public:
             valid = false;
             break;
           }
-        if (valid) {
-          p_[v] = before;
-          valid = accept_(v, moved);
-          p_[v] = moved;
-        }
+        if (valid) valid = accept_(v, moved);
         if (!valid) {
           p_[v] = before;
           ++r.rejected;

@@ -26,6 +26,13 @@ bool reexpress_barycentric(const std::array<Corner, 3>& from, const std::array<d
   return true;
 }
 
+/// The point with barycentrics `b` w.r.t. corners a, b, c (any 3D point type with x(), y(), z()).
+template <class Point>
+Point barycentric_point(const Point& a, const Point& b, const Point& c, const std::array<double, 3>& w) {
+  return Point(w[0] * a.x() + w[1] * b.x() + w[2] * c.x(), w[0] * a.y() + w[1] * b.y() + w[2] * c.y(),
+               w[0] * a.z() + w[1] * b.z() + w[2] * c.z());
+}
+
 } // namespace internal
 } // namespace crossparam
 
