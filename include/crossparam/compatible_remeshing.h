@@ -73,6 +73,7 @@ struct Remeshing_statistics {
   std::size_t output_vertices = 0, output_faces = 0;
   std::size_t refinement_splits = 0; ///< §5.3
   std::size_t pseudo_flips = 0;      ///< §5.4
+  std::size_t unfold_moves = 0;      ///< vertex moves that removed folds of the target-shaped mesh
   unsigned smoothing_rounds = 0, refinement_rounds = 0;
   double tolerance = 0;              ///< ε, percent
   double max_error_initial = 0, l2_error_initial = 0; ///< e(v) of M_st right after the projection
@@ -149,6 +150,10 @@ public:
     };
     internal::Local_smoother<decltype(weights), decltype(accept)> smoother(P_, weights, accept);
     Smoothing_report sr;
+    // Refinement stops once three rounds in a row improve none of the figures the tolerance is about.
+    double best_max = max_e_, best_chord = max_chord_, best_l2 = l2_e_;
+    std::size_t best_flipped = flipped_;
+    unsigned stale = 0;
     for (unsigned round = 0; round < max_rounds && !converged(); ++round) {
       const auto ts = clock::now();
       weights.update(S_.m, edge_error_);
@@ -166,6 +171,7 @@ public:
       // Smoothing no longer lowers the error: refine.
       const auto tr = clock::now();
       const std::size_t n = refine(rule);
+      stats_.unfold_moves += unfold();
       ++stats_.refinement_rounds;
       weights.prepare(S_.m);
       measure();
@@ -174,6 +180,14 @@ public:
           std::to_string(S_.m.number_of_vertices()) + " vertices, max error " + fmt(100 * max_e_) + "%, L2 " +
           fmt(100 * l2_e_) + "%, " + std::to_string(flipped_) + " flipped, chord " + fmt(100 * max_chord_) + "%");
       if (n == 0) break;
+      const bool better = max_e_ < 0.99 * best_max || max_chord_ < 0.99 * best_chord || l2_e_ < 0.97 * best_l2 ||
+                          flipped_ < best_flipped;
+      best_max = std::min(best_max, max_e_), best_chord = std::min(best_chord, max_chord_);
+      best_l2 = std::min(best_l2, l2_e_), best_flipped = std::min(best_flipped, flipped_);
+      if ((stale = better ? 0 : stale + 1) == 3) {
+        say("remesh: stopped refining: three rounds without progress");
+        break;
+      }
       if (S_.m.number_of_vertices() > 4 * stats_.layout_vertices) {
         say("remesh: stopped refining at four times the source's vertex count");
         break;
@@ -250,7 +264,7 @@ private:
   void say(const std::string& s) const {
     if (progress_) progress_(s);
   }
-  bool converged() const { return max_e_ <= eps_ && max_edge_chord_ <= eps_; }
+  bool converged() const { return max_e_ <= eps_ && max_chord_ <= eps_ && flipped_ == 0; }
 
   Point_3 target_point(const internal::Work_location& l) const {
     const auto& m = T_.m;
@@ -293,8 +307,9 @@ private:
     e.assign(mt.number_of_vertices(), 0.0);
     max_e_ = 0;
     double sum2 = 0;
+    pre_.resize(mt.number_of_vertices());
     for (internal::WV v : mt.vertices()) {
-      internal::Work_location l = locS_.locate(PT_[v]);
+      const internal::Work_location& l = pre_[v] = locS_.locate(PT_[v]);
       internal::WH h = ms.halfedge(l.face);
       const Point_3 &a = pos_[ms.source(h)], &b = pos_[ms.target(h)], &c = pos_[ms.target(ms.next(h))];
       const Point_3 q = internal::barycentric_point(a, b, c, l.b);
@@ -330,6 +345,8 @@ private:
     }
     // Per face of M_st: the chord deviation at the centroid (reported), and whether the face is flipped.
     flipped_ = 0;
+    face_chord_.assign(ms.number_of_faces(), 0.0);
+    face_flipped_.assign(ms.number_of_faces(), 0);
     for (internal::WF f : ms.faces()) {
       internal::WH h = ms.halfedge(f);
       const internal::WV x = ms.source(h), y = ms.target(h), z = ms.target(ms.next(h));
@@ -337,92 +354,254 @@ private:
       const internal::Work_location l = locT_.locate(P_.at(f, {1.0 / 3, 1.0 / 3, 1.0 / 3}));
       const double chord = std::sqrt(CGAL::squared_distance(CGAL::centroid(a, b, c), target_point(l)));
       max_chord_ = std::max(max_chord_, chord);
+      face_chord_[f] = chord;
       // Flipped: the normal opposes the target's under each corner and under the centroid.
-      flipped_ += flipped(a, img_[x].face, b, img_[y].face, c, img_[z].face) &&
-                  internal::triangle_normal(a, b, c) * target_normal(l.face) < 0;
+      face_flipped_[f] = flipped(a, img_[x].face, b, img_[y].face, c, img_[z].face) &&
+                         internal::triangle_normal(a, b, c) * target_normal(l.face) < 0;
+      flipped_ += face_flipped_[f];
     }
   }
 
+  /// A corner of a planned face: base location, image on the target and its point.
+  struct Corner {
+    Base_location loc;
+    internal::Work_location img;
+    Point_3 pos;
+  };
+  Corner corner(internal::WV v) const { return {P_[v], img_[v], pos_[v]}; }
+  Corner corner_at(const Base_location& w) const {
+    const internal::Work_location l = locT_.locate(w);
+    return {w, l, target_point(l)};
+  }
+  using Face_plan = std::array<const Corner*, 3>;
+  /// Whether replacing faces `before` by `after` keeps the parameterization one-to-one (every new face
+  /// positively oriented over the base mesh, exact test) and folds no more faces of M_st against the target.
+  template <std::size_t N, std::size_t M>
+  bool acceptable(const std::array<Face_plan, N>& before, const std::array<Face_plan, M>& after) const {
+    const internal::Base_mesh& B = *P_.base;
+    for (const Face_plan& f : after)
+      if (B.triangle_orientation(f[0]->loc, f[1]->loc, f[2]->loc) != CGAL::POSITIVE) return false;
+    auto folds = [&](const Face_plan& f) {
+      return int(flipped(f[0]->pos, f[0]->img.face, f[1]->pos, f[1]->img.face, f[2]->pos, f[2]->img.face));
+    };
+    int nb = 0, na = 0;
+    for (const Face_plan& f : before) nb += folds(f);
+    for (const Face_plan& f : after) na += folds(f);
+    return na <= nb;
+  }
+  /// Adds the new vertex of a split (the mesh already split) with its planned corner.
+  void commit(internal::WV nw, const Corner& c) {
+    if (std::size_t(nw) != P_.loc.size()) throw Algorithm_error("internal error: split vertex out of order");
+    P_.loc.push_back(c.loc);
+    img_.push_back(c.img);
+    pos_.push_back(c.pos);
+  }
+  /// Marks the faces next to edge (u, v) as changed in this round.
+  void touch(internal::WV u, internal::WV v) {
+    const auto& m = S_.m;
+    internal::WH h = m.halfedge(u, v);
+    for (internal::WH g : {h, m.opposite(h)})
+      if (std::size_t(m.face(g)) < dirty_.size()) dirty_[m.face(g)] = 1;
+  }
+  bool is_dirty(internal::WF f) const { return std::size_t(f) >= dirty_.size() || dirty_[f]; }
+
   /// Splits edge (u, v) of the source at parameter t, on the source and in its parameterization, if the four
-  /// new faces stay positively oriented over the base mesh (exact test). Returns whether it split.
+  /// new faces stay positively oriented over the base mesh (exact test) and M_st gains no fold. Returns
+  /// whether it split.
   bool split(internal::WV u, internal::WV v, double t) {
     const auto& m = S_.m;
-    const Base_location w = P_.between(u, v, t);
     internal::WH h = m.halfedge(u, v);
     const internal::WV x = m.target(m.next(h)), y = m.target(m.next(m.opposite(h)));
-    const internal::Base_mesh& B = *P_.base;
-    auto pos = [&](const Base_location& a, const Base_location& b, const Base_location& c) {
-      return B.triangle_orientation(a, b, c) == CGAL::POSITIVE;
-    };
-    if (!(pos(P_[u], w, P_[x]) && pos(w, P_[v], P_[x]) && pos(P_[v], w, P_[y]) && pos(w, P_[u], P_[y]))) return false;
-    // Nor may M_st gain a face flipped against the target (where the old faces were not).
-    const internal::Work_location lw = locT_.locate(w);
-    const Point_3 pw = target_point(lw);
-    const bool was = flipped(pos_[u], img_[u].face, pos_[v], img_[v].face, pos_[x], img_[x].face) ||
-                     flipped(pos_[v], img_[v].face, pos_[u], img_[u].face, pos_[y], img_[y].face);
-    if (!was && (flipped(pos_[u], img_[u].face, pw, lw.face, pos_[x], img_[x].face) ||
-                 flipped(pw, lw.face, pos_[v], img_[v].face, pos_[x], img_[x].face) ||
-                 flipped(pos_[v], img_[v].face, pw, lw.face, pos_[y], img_[y].face) ||
-                 flipped(pw, lw.face, pos_[u], img_[u].face, pos_[y], img_[y].face)))
+    const Corner cu = corner(u), cv = corner(v), cx = corner(x), cy = corner(y), cw = corner_at(P_.between(u, v, t));
+    if (!acceptable(std::array<Face_plan, 2>{{{&cu, &cv, &cx}, {&cv, &cu, &cy}}},
+                    std::array<Face_plan, 4>{{{&cu, &cw, &cx}, {&cw, &cv, &cx}, {&cv, &cw, &cy}, {&cw, &cu, &cy}}}))
       return false;
-    const internal::WV nw = S_.split_edge(u, v, t);
-    if (std::size_t(nw) != P_.loc.size()) throw Algorithm_error("internal error: split vertex out of order");
-    P_.loc.push_back(w);
-    img_.push_back(lw);
-    pos_.push_back(pw);
+    touch(u, v);
+    commit(S_.split_edge(u, v, t), cw);
     return true;
   }
 
-  /// §5.3: splits the edges above the rule's threshold (Eq. 2 error), the edges of M_st whose midpoint is
-  /// farther than ε from the target, and, for every target vertex still beyond ε, the longest edge of the face
-  /// holding its preimage. Returns the number of splits.
+  /// Inserts a vertex at the point of source face f with barycentrics b (in f's halfedge order) by two edge
+  /// splits: edge (a, c) opposite corner k at the point s where the line from that corner through the point
+  /// meets it, then edge (k, s) at the point. The new vertices lie in the source face, so the source geometry
+  /// is kept; the image of the point is F of it, so a target vertex whose preimage it is becomes a vertex of
+  /// M_st. Tries the three corners, the one opposite the longest edge of M_st first. Returns whether it did.
+  bool insert(internal::WF f, const std::array<double, 3>& b) {
+    const auto& m = S_.m;
+    internal::WH h0 = m.halfedge(f);
+    const internal::WV vs[3] = {m.source(h0), m.target(h0), m.target(m.next(h0))};
+    {
+      const Corner c0 = corner(vs[0]), c1 = corner(vs[1]), c2 = corner(vs[2]), cp = corner_at(P_.at(f, b));
+      if (acceptable(std::array<Face_plan, 1>{{{&c0, &c1, &c2}}},
+                     std::array<Face_plan, 3>{{{&c0, &c1, &cp}, {&c1, &c2, &cp}, {&c2, &c0, &cp}}})) {
+        if (std::size_t(f) < dirty_.size()) dirty_[f] = 1;
+        commit(S_.split_face(f, b), cp);
+        return true;
+      }
+    }
+    std::array<int, 3> order{{0, 1, 2}};
+    auto opposite_length = [&](int k) { return CGAL::squared_distance(pos_[vs[(k + 1) % 3]], pos_[vs[(k + 2) % 3]]); };
+    std::sort(order.begin(), order.end(), [&](int i, int j) { return opposite_length(i) > opposite_length(j); });
+    for (int k : order) {
+      const int i = (k + 1) % 3, j = (k + 2) % 3; // the edge (vs[i], vs[j]) is split at s
+      const double bij = b[i] + b[j];
+      if (!(bij > 1e-9) || !(b[k] > 1e-9)) continue; // the point is a corner or on the split edge
+      const double t = b[j] / bij;      // s = (1 - t) vs[i] + t vs[j]
+      const double t2 = bij;            // point = (1 - t2) vs[k] + t2 s
+      const internal::WV a = vs[i], c = vs[j], kk = vs[k];
+      internal::WH h = m.halfedge(a, c);
+      const internal::WV y = m.target(m.next(m.opposite(h)));
+      std::array<double, 3> bs{{0, 0, 0}};
+      bs[i] = 1 - t, bs[j] = t;
+      const Corner ca = corner(a), cc = corner(c), ck = corner(kk), cy = corner(y);
+      const Corner cs = corner_at(P_.at(f, bs)), cp = corner_at(P_.at(f, b));
+      if (!acceptable(std::array<Face_plan, 2>{{{&ca, &cc, &ck}, {&cc, &ca, &cy}}},
+                      std::array<Face_plan, 6>{{{&ca, &cs, &cp}, {&ca, &cp, &ck}, {&cs, &cc, &cp}, {&cp, &cc, &ck},
+                                                 {&cc, &cs, &cy}, {&cs, &ca, &cy}}}))
+        continue;
+      touch(a, c);
+      const internal::WV s = S_.split_edge(a, c, t);
+      commit(s, cs);
+      commit(S_.split_edge(kk, s, t2), cp);
+      return true;
+    }
+    return false;
+  }
+
+  /// §5.3, refinement of the source and M_st together, in two steps:
+  ///  1. every target vertex whose error e(v) exceeds the rule's threshold (of the largest e(v)), largest
+  ///     first, has its preimage F^-1(v) inserted into the source face holding it: v becomes a vertex of M_st
+  ///     and its error drops to zero. Once per face and round (the located preimages of a changed face are
+  ///     stale), and not next to a target vertex inserted in this round. Where the insertion would fold M_st,
+  ///     the face's longest edge is split instead;
+  ///  2. the paper's edge splits: edges whose Eq. 2 error exceeds the rule's threshold, edges whose midpoint
+  ///     lies farther than ε from F(midpoint), and the longest edge of every face whose centroid lies farther
+  ///     than ε from F(centroid), at the midpoint (or near it, where the midpoint would fold M_st). Edges of M_st
+  ///     shorter than ε/2 are not split: a large error there comes from a spot where F changes abruptly (a
+  ///     squeezed protrusion), which halving would chase forever; the insertions of step 1 reach it.
+  /// Returns the number of new vertices.
   template <class Rule>
   std::size_t refine(const Rule& rule) {
     const auto& m = S_.m;
+    const auto& mt = T_.m;
+    const std::size_t v0 = m.number_of_vertices();
+    dirty_.assign(m.number_of_faces(), 0);
+    // 1. Target vertices beyond the threshold.
+    const double thr_v = rule.threshold(max_e_, eps_);
+    std::vector<internal::WV> worst;
+    for (internal::WV v : mt.vertices())
+      if (e_[v] > thr_v) worst.push_back(v);
+    std::sort(worst.begin(), worst.end(), [&](internal::WV x, internal::WV y) { return e_[x] > e_[y]; });
+    std::vector<char> near(mt.number_of_vertices(), 0);
+    std::vector<std::pair<internal::WV, internal::WV>> fallback;
+    for (internal::WV v : worst) {
+      if (near[v] || is_dirty(pre_[v].face)) continue;
+      if (!insert(pre_[v].face, pre_[v].b)) {
+        // Cannot insert without folding M_st: split the face's longest edge instead (below).
+        const internal::WH g = longest_edge(pre_[v].face);
+        fallback.push_back({m.source(g), m.target(g)});
+        continue;
+      }
+      near[v] = 1;
+      for (internal::WV w : CGAL::vertices_around_target(mt.halfedge(v), mt)) near[w] = 1;
+    }
+    // 2. Edges.
     double emax = 0;
     for (double x : edge_error_) emax = std::max(emax, x);
     const double thr = rule.threshold(emax, eps_);
-    std::vector<std::pair<internal::WV, internal::WV>> todo;
     std::vector<char> mark(m.number_of_edges(), 0);
-    auto add = [&](internal::WH h) {
-      if (mark[m.edge(h)]) return;
-      mark[m.edge(h)] = 1;
-      todo.push_back({m.source(h), m.target(h)});
-    };
-    // The longest edge of a face of M_st.
-    auto longest = [&](internal::WH h) {
-      internal::WH best = h;
-      double bl = -1;
-      for (internal::WH g : CGAL::halfedges_around_face(h, m)) {
-        double len = CGAL::squared_distance(pos_[m.source(g)], pos_[m.target(g)]);
-        if (len > bl) bl = len, best = g;
-      }
-      return best;
-    };
-    for (internal::WE e : m.edges())
-      if (edge_error_[e] > thr || edge_chord_[e] > eps_) add(m.halfedge(e));
-    // Every target vertex still beyond the tolerance gets a split in the face of its preimage, so that each
-    // round makes progress everywhere (the rule above alone treats one error peak after the other).
-    const auto& mt = T_.m;
-    for (internal::WV v : mt.vertices()) {
-      if (!(e_[v] > eps_)) continue;
-      const internal::Work_location l = locS_.locate(PT_[v]);
-      add(longest(m.halfedge(l.face)));
+    for (internal::WE e : m.edges()) mark[e] = edge_chord_[e] > eps_ || edge_error_[e] > thr;
+    for (internal::WF f : m.faces()) {
+      if (!(face_chord_[f] > eps_)) continue;
+      mark[m.edge(longest_edge(f))] = 1;
     }
-    std::size_t n = 0;
-    for (const auto& [u, v] : todo)
-      if (m.halfedge(u, v) != internal::WH()) {
-        // At the midpoint if that folds nothing over, else elsewhere on the edge.
-        // An edge of M_st already shorter than half the tolerance is not split: a large error there comes from
-        // a spot where F changes abruptly (a squeezed protrusion), which halving would chase forever.
-        bool done = false;
-        if (CGAL::squared_distance(pos_[u], pos_[v]) > 0.25 * eps_ * eps_)
-          for (double t : {0.5, 0.375, 0.625, 0.25, 0.75})
-            if ((done = split(u, v, t))) break;
-        if (done) ++n;
-      }
+    std::vector<std::pair<internal::WV, internal::WV>> todo;
+    for (internal::WE e : m.edges()) {
+      if (!mark[e]) continue;
+      internal::WH h = m.halfedge(e);
+      const internal::WV u = m.source(h), v = m.target(h);
+      if (CGAL::squared_distance(pos_[u], pos_[v]) > 0.25 * eps_ * eps_) todo.push_back({u, v});
+    }
+    for (const auto& [u, v] : fallback)
+      if (CGAL::squared_distance(pos_[u], pos_[v]) > 0.25 * eps_ * eps_) todo.push_back({u, v});
+    for (const auto& [u, v] : todo) {
+      internal::WH h = m.halfedge(u, v);
+      if (h == internal::WH()) continue; // already split
+      for (double t : {0.5, 0.375, 0.625, 0.25, 0.75}) // at the midpoint if that folds nothing over
+        if (split(u, v, t)) break;
+    }
+    const std::size_t n = m.number_of_vertices() - v0;
     stats_.refinement_splits += n;
     return n;
+  }
+
+  /// The longest edge of face f of M_st.
+  internal::WH longest_edge(internal::WF f) const {
+    const auto& m = S_.m;
+    internal::WH best = m.halfedge(f);
+    double bl = -1;
+    for (internal::WH g : CGAL::halfedges_around_face(m.halfedge(f), m)) {
+      const double len = CGAL::squared_distance(pos_[m.source(g)], pos_[m.target(g)]);
+      if (len > bl) bl = len, best = g;
+    }
+    return best;
+  }
+
+  /// Faces of M_st around source vertex v folded over against the target if v's image were `c`.
+  int folds_around(internal::WV v, const Corner& c) const {
+    const auto& m = S_.m;
+    int n = 0;
+    for (internal::WH h : CGAL::halfedges_around_target(m.halfedge(v), m)) {
+      internal::WV a = m.target(m.next(h)), b = m.target(m.next(m.next(h)));
+      n += flipped(c.pos, c.img.face, pos_[a], img_[a].face, pos_[b], img_[b].face);
+    }
+    return n;
+  }
+
+  /// Removes folds of M_st by moving vertices: a corner of a folded face is moved in the base domain along
+  /// one of its edges (a quarter, half or three quarters of the way) if that folds fewer faces around it and
+  /// keeps its faces positively oriented over the base mesh (exact test, as the smoothing). The source geometry
+  /// is unchanged: only where the vertex lands on the target moves. Returns the number of moves.
+  std::size_t unfold() {
+    const auto& m = S_.m;
+    std::size_t moves = 0;
+    for (int pass = 0; pass < 4; ++pass) {
+      std::vector<internal::WV> todo;
+      for (internal::WF f : m.faces()) {
+        internal::WH h = m.halfedge(f);
+        internal::WV x = m.source(h), y = m.target(h), z = m.target(m.next(h));
+        if (flipped(pos_[x], img_[x].face, pos_[y], img_[y].face, pos_[z], img_[z].face))
+          for (internal::WV v : {x, y, z}) todo.push_back(v);
+      }
+      if (todo.empty()) break;
+      std::size_t before_moves = moves;
+      for (internal::WV v : todo) {
+        if (S_.vfeature[v] != internal::no_feature) continue;
+        const Corner now = corner(v);
+        int best = folds_around(v, now);
+        if (best == 0) continue;
+        Corner chosen = now;
+        for (internal::WV w : CGAL::vertices_around_target(m.halfedge(v), m))
+          for (double t : {0.25, 0.5, 0.75}) {
+            const Corner c = corner_at(P_.between(v, w, t));
+            const int k = folds_around(v, c);
+            if (k >= best) continue;
+            P_[v] = c.loc;
+            bool valid = true;
+            for (internal::WF g : CGAL::faces_around_target(m.halfedge(v), m))
+              if (P_.face_orientation(g) != CGAL::POSITIVE) valid = false;
+            P_[v] = now.loc;
+            if (valid) best = k, chosen = c;
+          }
+        if (chosen.loc.tri == now.loc.tri && chosen.loc.b == now.loc.b) continue;
+        P_[v] = chosen.loc;
+        img_[v] = chosen.img;
+        pos_[v] = chosen.pos;
+        ++moves;
+      }
+      if (moves == before_moves) break;
+    }
+    return moves;
   }
 
   /// §5.4: an edge (u, v) with opposite corners x, y whose faces deviate from the target's normal by more
@@ -533,6 +712,10 @@ private:
   std::vector<double> e_, es_;               ///< e(v) per target vertex, and smoothed
   std::vector<double> edge_error_;           ///< Eq. 2 per source edge
   std::vector<double> edge_chord_;           ///< per source edge: M_st's edge midpoint's distance from F(midpoint)
+  std::vector<double> face_chord_;           ///< per source face: M_st's centroid's distance from F(centroid)
+  std::vector<char> face_flipped_;           ///< per source face: M_st's face is flipped against the target
+  std::vector<internal::Work_location> pre_; ///< per target vertex: its preimage on the source, F^-1(v)
+  std::vector<char> dirty_;                  ///< per source face: changed by a split of the current round
   std::size_t flipped_ = 0;
   double max_e_ = 0, l2_e_ = 0, max_chord_ = 0, max_edge_chord_ = 0, eps_ = 0;
   std::function<void(const std::string&)> progress_;

@@ -580,6 +580,38 @@ public:
     return w;
   }
 
+  /// Splits face f into three at the point with barycentrics b (in f's halfedge order: source(h), target(h),
+  /// target(next(h)), h = halfedge(f)); returns the new vertex (the last one). Not recorded in `splits`: used by
+  /// the remeshing, whose meshes are not replayed on the user's.
+  WV split_face(WF f, const std::array<double, 3>& b) {
+    WH h = m.halfedge(f);
+    const WV vs[3] = {m.source(h), m.target(h), m.target(m.next(h))};
+    const int o = forig[f];
+    std::array<double, 3> r{{0, 0, 0}};
+    double q[3] = {0, 0, 0};
+    for (int i = 0; i < 3; ++i) {
+      std::array<double, 3> ri;
+      if (!rep_in(vs[i], o, ri)) throw Algorithm_error("internal error: split face lies in no original face");
+      for (int k = 0; k < 3; ++k) r[k] += b[i] * ri[k];
+      const Point_3& p = m.point(vs[i]);
+      q[0] += b[i] * p.x(), q[1] += b[i] * p.y(), q[2] += b[i] * p.z();
+    }
+    WH hc = CGAL::Euler::add_center_vertex(h, m);
+    WV w = m.target(hc);
+    m.point(w) = Point_3(q[0], q[1], q[2]);
+    for (WF g : CGAL::faces_around_target(hc, m)) forig[g] = o;
+    if (!desc.empty()) {
+      std::vector<float> dm(desc[vs[0]].size(), 0.f);
+      for (int i = 0; i < 3; ++i)
+        for (std::size_t k = 0; k < dm.size(); ++k) dm[k] += float(b[i] * desc[vs[i]][k]);
+      if (desc.size() <= std::size_t(w)) desc.resize(std::size_t(w) + 1);
+      desc[w] = std::move(dm);
+    }
+    if (vrep.size() <= std::size_t(w)) vrep.resize(std::size_t(w) + 1);
+    vrep[w] = {o, r};
+    return w;
+  }
+
   /// The edges crossed by a shortest path through the faces of one patch, from sector `corner_a` of
   /// feature a to sector `corner_b` of feature b, as vertex pairs (stable under splits of other edges).
   /// Throws Algorithm_error if the sectors do not share a patch.
