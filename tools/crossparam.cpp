@@ -478,7 +478,7 @@ void write_remesh(const Options& o, const Map& cp, const Remesher& r, double rea
     os << "  \"layout_vertices\": " << S.layout_vertices << ",\n";
     os << "  \"output_vertices\": " << S.output_vertices << ",\n  \"output_faces\": " << S.output_faces << ",\n";
     os << "  \"added_vertices_percent\": " << json_number(added) << ",\n";
-    os << "  \"refinement_splits\": " << S.refinement_splits << ",\n  \"pseudo_flips\": " << S.pseudo_flips << ",\n";
+    os << "  \"refinement_splits\": " << S.refinement_splits << ",\n  \"pseudo_flips\": " << S.pseudo_flips << ",\n  \"unfold_moves\": " << S.unfold_moves << ",\n";
     os << "  \"tolerance_percent\": " << json_number(S.tolerance) << ",\n";
     os << "  \"error_initial\": {\"max_percent\": " << json_number(S.max_error_initial)
        << ", \"l2_percent\": " << json_number(S.l2_error_initial) << "},\n";

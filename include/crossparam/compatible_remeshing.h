@@ -5,10 +5,11 @@
 // The source connectivity is carried onto the target by the cross-parameterization F (the mesh M_st). Then,
 // in a loop: the approximation error e(v) at the target vertices (Eq. 1), Gaussian-smoothed; adaptive smoothing
 // of the source's parameterization with error-driven edge weights (Eq. 2) through the same Local_smoother as
-// §4.2; edge splits where the error stays high once smoothing stops helping (§5.3); finally "pseudo" edge flips
+// §4.2; refinement where the error stays high once smoothing stops helping (§5.3: edge splits, plus insertion of
+// the preimages of the worst target vertices), with folds of M_st removed by vertex moves; finally "pseudo" edge flips
 // (§5.4): edges whose flip would bring the faces' normals closer to the target's are split at the crossing of
 // the two diagonals instead. Splits are applied to the source mesh and M_st together (they share connectivity);
-// a new vertex lies on a source edge, and its image is F of it, on the target. No vertex is removed and no edge
+// a new vertex lies on a source edge or inside a source face, and its image is F of it, on the target. No vertex is removed and no edge
 // is flipped, so the source geometry is kept exactly, and every step keeps the parameterization one-to-one
 // (exact orientation tests), which is certified again at the end.
 #ifndef CROSSPARAM_COMPATIBLE_REMESHING_H
@@ -90,7 +91,7 @@ struct Remeshing_statistics {
 ///
 /// Works on a copy of the source side of `cp` (the cross-parameterization itself is not changed). The results
 /// are two meshes with one face list: `source_points()` reproduce the source (the first `source_vertices`
-/// points are the input source vertices, exactly, in input order; the others lie on source edges) and
+/// points are the input source vertices, exactly, in input order; the others lie on source edges or faces) and
 /// `target_points()` lie on the target. Points are in input coordinates, faces oriented as the input source.
 ///
 /// Named parameters: `tolerance` (percent, default 0.5), `normal_deviation` (degrees, default 30),
