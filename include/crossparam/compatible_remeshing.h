@@ -330,7 +330,7 @@ private:
     // other side of the Hausdorff distance, which e(v) at target vertices alone does not see).
     edge_error_.assign(ms.number_of_edges(), 0.0);
     edge_chord_.assign(ms.number_of_edges(), 0.0);
-    max_chord_ = max_edge_chord_ = 0;
+    max_chord_ = 0;
     for (internal::WE ed : ms.edges()) {
       internal::WH h = ms.halfedge(ed);
       internal::WV u = ms.source(h), v = ms.target(h);
@@ -338,7 +338,6 @@ private:
       const Point_3 pm = target_point(lm);
       const double chord = std::sqrt(CGAL::squared_distance(CGAL::midpoint(pos_[u], pos_[v]), pm));
       edge_chord_[ed] = chord;
-      max_edge_chord_ = std::max(max_edge_chord_, chord);
       max_chord_ = std::max(max_chord_, chord);
       const double eu = target_field(es_, img_[u]), ev = target_field(es_, img_[v]);
       const double em = std::max(target_field(es_, lm), chord);
@@ -588,9 +587,7 @@ private:
             const int k = folds_around(v, c);
             if (k >= best) continue;
             P_[v] = c.loc;
-            bool valid = true;
-            for (internal::WF g : CGAL::faces_around_target(m.halfedge(v), m))
-              if (P_.face_orientation(g) != CGAL::POSITIVE) valid = false;
+            const bool valid = P_.star_positive(v);
             P_[v] = now.loc;
             if (valid) best = k, chosen = c;
           }
@@ -718,7 +715,7 @@ private:
   std::vector<internal::Work_location> pre_; ///< per target vertex: its preimage on the source, F^-1(v)
   std::vector<char> dirty_;                  ///< per source face: changed by a split of the current round
   std::size_t flipped_ = 0;
-  double max_e_ = 0, l2_e_ = 0, max_chord_ = 0, max_edge_chord_ = 0, eps_ = 0;
+  double max_e_ = 0, l2_e_ = 0, max_chord_ = 0, eps_ = 0;
   std::function<void(const std::string&)> progress_;
   std::vector<std::array<std::size_t, 3>> faces_;
   std::vector<std::array<double, 3>> src_pts_, tgt_pts_;

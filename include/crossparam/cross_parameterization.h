@@ -413,11 +413,10 @@ private:
       l.b = nb;
     }
     for (internal::WV x : vs)
-      for (internal::WF f : CGAL::faces_around_target(B_.side[0].m.halfedge(x), B_.side[0].m))
-        if (P_[0].face_orientation(f) != CGAL::POSITIVE) {
-          for (std::size_t i = 0; i < vs.size(); ++i) P_[0][vs[i]] = saved[i];
-          return false;
-        }
+      if (!P_[0].star_positive(x)) {
+        for (std::size_t i = 0; i < vs.size(); ++i) P_[0][vs[i]] = saved[i];
+        return false;
+      }
     return true;
   }
 

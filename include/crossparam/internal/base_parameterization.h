@@ -74,6 +74,13 @@ struct Base_parameterization {
                                       loc[mesh->m.target(mesh->m.next(h))], fits);
   }
 
+  /// Whether every face around vertex v is positively oriented over the base mesh (exact test).
+  bool star_positive(WV v) const {
+    for (WF f : CGAL::faces_around_target(mesh->m.halfedge(v), mesh->m))
+      if (face_orientation(f) != CGAL::POSITIVE) return false;
+    return true;
+  }
+
   /// The base location of a point given by barycentrics `b` (halfedge order of face f: source(h), target(h),
   /// target(next(h)), h = halfedge(f)) on a mesh face: the piecewise-linear map evaluated in the face's chart.
   Base_location at(WF f, const std::array<double, 3>& b) const {

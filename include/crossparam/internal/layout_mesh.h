@@ -70,38 +70,9 @@ split_edge_and_triangulate(TriangleMesh& tm, VertexPointMap vpm,
 /// A path of the layout on one mesh: halfedges from its first feature to its second.
 using Halfedge_path = std::vector<WH>;
 
-/// The working copy of one input mesh with its partial layout.
-class Layout_mesh {
-public:
-  Layout_mesh() = default;
-  /// Copies rebind the property maps to the copy's own mesh.
-  Layout_mesh(const Layout_mesh& o) { *this = o; }
-  Layout_mesh& operator=(const Layout_mesh& o) {
-    if (this == &o) return *this;
-    m = o.m;
-    vfeature = m.property_map<WV, int>("v:cp_feature").first;
-    vpath = m.property_map<WV, int>("v:cp_path").first;
-    epath = m.property_map<WE, int>("e:cp_path").first;
-    forig = m.property_map<WF, int>("f:cp_orig").first;
-    feature_vertex = o.feature_vertex;
-    splits = o.splits;
-    paths = o.paths;
-    n_original_vertices = o.n_original_vertices;
-    n_original_faces = o.n_original_faces;
-    center = o.center;
-    scale = o.scale;
-    input_points = o.input_points;
-    reversed = o.reversed;
-    orig_tri = o.orig_tri;
-    vrep = o.vrep;
-    desc = o.desc;
-    return *this;
-  }
-
+/// The plain data of a Layout_mesh: everything a member-wise copy copies correctly.
+struct Layout_mesh_data {
   Work_mesh m;
-  Work_mesh::Property_map<WV, int> vfeature; ///< feature id of a vertex, or no_feature
-  Work_mesh::Property_map<WV, int> vpath;    ///< path id if the vertex is interior to a path, else no_path
-  Work_mesh::Property_map<WE, int> epath;    ///< path id of an edge, or no_path
   std::vector<WV> feature_vertex;            ///< vertex of each feature
   std::vector<Edge_split> splits;            ///< splits in the order performed
   std::vector<Halfedge_path> paths;          ///< per path id (empty once a path is removed)
@@ -110,14 +81,48 @@ public:
   /// Working coordinates are (p - center) / scale: a unit bounding-box diagonal whatever the input scale.
   std::array<double, 3> center{{0, 0, 0}};
   double scale = 1;
-  /// A working point back in input coordinates.
-  std::array<double, 3> input_point(const Point_3& p) const {
-    return {p.x() * scale + center[0], p.y() * scale + center[1], p.z() * scale + center[2]};
-  }
   /// The input vertices exactly as given (input coordinates, input order).
   std::vector<std::array<double, 3>> input_points;
   /// Whether the working faces are oriented opposite to the input's faces (the working copy faces outward).
   bool reversed = false;
+  /// Corners of each original face in the user's order (file order), as vertex indices.
+  std::vector<std::array<std::size_t, 3>> orig_tri;
+  /// Every vertex as a point of the original mesh: original face and barycentrics w.r.t. orig_tri.
+  std::vector<std::pair<int, std::array<double, 3>>> vrep;
+  /// Per vertex: approximate geodesic distance (edge-graph Dijkstra, scaled to unit area) to every feature.
+  /// Corresponding points of two similar meshes have similar descriptors (Layout_builder::consistency).
+  std::vector<std::vector<float>> desc;
+};
+
+/// The working copy of one input mesh with its partial layout.
+class Layout_mesh : public Layout_mesh_data {
+public:
+  Layout_mesh() = default;
+  /// Copies rebind the property maps to the copy's own mesh.
+  Layout_mesh(const Layout_mesh& o) : Layout_mesh_data(o) { bind_property_maps(); }
+  Layout_mesh& operator=(const Layout_mesh& o) {
+    Layout_mesh_data::operator=(o);
+    bind_property_maps();
+    return *this;
+  }
+
+  Work_mesh::Property_map<WV, int> vfeature; ///< feature id of a vertex, or no_feature
+  Work_mesh::Property_map<WV, int> vpath;    ///< path id if the vertex is interior to a path, else no_path
+  Work_mesh::Property_map<WE, int> epath;    ///< path id of an edge, or no_path
+  /// Original face of every face: faces keep their index, split faces inherit it.
+  Work_mesh::Property_map<WF, int> forig;
+  /// Points the property maps at this mesh's own (named) properties.
+  void bind_property_maps() {
+    vfeature = m.property_map<WV, int>("v:cp_feature").first;
+    vpath = m.property_map<WV, int>("v:cp_path").first;
+    epath = m.property_map<WE, int>("e:cp_path").first;
+    forig = m.property_map<WF, int>("f:cp_orig").first;
+  }
+
+  /// A working point back in input coordinates.
+  std::array<double, 3> input_point(const Point_3& p) const {
+    return {p.x() * scale + center[0], p.y() * scale + center[1], p.z() * scale + center[2]};
+  }
   /// Vertex v in input coordinates, computed from its input face and barycentrics: exact for input vertices,
   /// on the input face for split vertices.
   std::array<double, 3> input_position(WV v) const {
@@ -130,15 +135,6 @@ public:
     }
     return p;
   }
-  /// Original face of every face: faces keep their index, split faces inherit it.
-  Work_mesh::Property_map<WF, int> forig;
-  /// Corners of each original face in the user's order (file order), as vertex indices.
-  std::vector<std::array<std::size_t, 3>> orig_tri;
-  /// Every vertex as a point of the original mesh: original face and barycentrics w.r.t. orig_tri.
-  std::vector<std::pair<int, std::array<double, 3>>> vrep;
-  /// Per vertex: approximate geodesic distance (edge-graph Dijkstra, scaled to unit area) to every feature.
-  /// Corresponding points of two similar meshes have similar descriptors (Layout_builder::consistency).
-  std::vector<std::vector<float>> desc;
 
   /// Total surface area (working coordinates).
   double area() const {
@@ -564,14 +560,8 @@ public:
     }
     WV w = split_edge_and_triangulate(m, m.points(), u, v, p);
     splits.push_back({std::size_t(u), std::size_t(v), std::size_t(w), t});
-    if (!desc.empty()) {
-      std::vector<float> dm(desc[u].size());
-      for (std::size_t k = 0; k < dm.size(); ++k) dm[k] = float((1 - t) * desc[u][k] + t * desc[v][k]);
-      if (desc.size() <= std::size_t(w)) desc.resize(std::size_t(w) + 1);
-      desc[w] = std::move(dm);
-    }
-    if (vrep.size() <= std::size_t(w)) vrep.resize(std::size_t(w) + 1);
-    vrep[w] = {o, {(1 - t) * ru[0] + t * rv[0], (1 - t) * ru[1] + t * rv[1], (1 - t) * ru[2] + t * rv[2]}};
+    record_new_vertex(w, o, {(1 - t) * ru[0] + t * rv[0], (1 - t) * ru[1] + t * rv[1], (1 - t) * ru[2] + t * rv[2]},
+                      std::array<WV, 2>{{u, v}}, std::array<double, 2>{{1 - t, t}});
     for (WF f : CGAL::faces_around_target(m.halfedge(w), m)) {
       bool has_a = false;
       for (WV x : CGAL::vertices_around_face(m.halfedge(f), m)) has_a |= (x == xa);
@@ -600,16 +590,27 @@ public:
     WV w = m.target(hc);
     m.point(w) = Point_3(q[0], q[1], q[2]);
     for (WF g : CGAL::faces_around_target(hc, m)) forig[g] = o;
+    record_new_vertex(w, o, r, std::array<WV, 3>{{vs[0], vs[1], vs[2]}}, b);
+    return w;
+  }
+
+  /// Records a new vertex w as the point with barycentrics r of original face o, and its descriptor as the
+  /// blend of its corners' `from` with weights `wts`.
+  template <std::size_t N>
+  void record_new_vertex(WV w, int o, const std::array<double, 3>& r, const std::array<WV, N>& from,
+                         const std::array<double, N>& wts) {
     if (!desc.empty()) {
-      std::vector<float> dm(desc[vs[0]].size(), 0.f);
-      for (int i = 0; i < 3; ++i)
-        for (std::size_t k = 0; k < dm.size(); ++k) dm[k] += float(b[i] * desc[vs[i]][k]);
+      std::vector<float> dm(desc[from[0]].size());
+      for (std::size_t k = 0; k < dm.size(); ++k) {
+        double x = 0;
+        for (std::size_t i = 0; i < N; ++i) x += wts[i] * desc[from[i]][k];
+        dm[k] = float(x);
+      }
       if (desc.size() <= std::size_t(w)) desc.resize(std::size_t(w) + 1);
       desc[w] = std::move(dm);
     }
     if (vrep.size() <= std::size_t(w)) vrep.resize(std::size_t(w) + 1);
     vrep[w] = {o, r};
-    return w;
   }
 
   /// The edges crossed by a shortest path through the faces of one patch, from sector `corner_a` of
