@@ -92,6 +92,21 @@ TEST(Remesh, ToleranceIsHonoured) {
   EXPECT_GE(tight.stats.output_vertices, loose.stats.output_vertices);
 }
 
+// The result is a function of the inputs alone: the same remeshing repeated in one process, after another
+// one has reused the heap, gives the same faces and points bit for bit (a read of stale memory once made it not).
+TEST(Remesh, RepeatsExactly) {
+  Surface_mesh a = shapes::make_deformed_sphere(3, 1500, false), b = shapes::make_deformed_sphere(11, 1200, true);
+  Feature_correspondence f = shapes::random_features(a, b, 8, 5, false);
+  Map cp(a, b, f);
+  const Remesher first(cp, crossparam::parameters::tolerance(0.5));
+  { const Remesher other(cp, crossparam::parameters::tolerance(0.25)); }
+  const Remesher again(cp, crossparam::parameters::tolerance(0.5));
+  EXPECT_GT(first.statistics().refinement_splits, 0u);
+  EXPECT_EQ(first.faces(), again.faces());
+  EXPECT_EQ(first.source_points(), again.source_points());
+  EXPECT_EQ(first.target_points(), again.target_points());
+}
+
 TEST(Remesh, RejectsBadTolerance) {
   Surface_mesh a = shapes::make_deformed_sphere(1, 300, false), b = shapes::make_deformed_sphere(2, 300, false);
   Feature_correspondence f = shapes::random_features(a, b, 4, 1, false);

@@ -510,9 +510,11 @@ private:
     for (double x : edge_error_) emax = std::max(emax, x);
     const double thr = rule.threshold(emax, eps_);
     std::vector<char> mark(m.number_of_edges(), 0);
-    for (internal::WE e : m.edges()) mark[e] = edge_chord_[e] > eps_ || edge_error_[e] > thr;
+    // Only the edges and faces measured before step 1 have figures (its splits made the others).
+    for (internal::WE e : m.edges())
+      if (std::size_t(e) < edge_chord_.size()) mark[e] = edge_chord_[e] > eps_ || edge_error_[e] > thr;
     for (internal::WF f : m.faces()) {
-      if (!(face_chord_[f] > eps_)) continue;
+      if (std::size_t(f) >= face_chord_.size() || !(face_chord_[f] > eps_)) continue;
       mark[m.edge(longest_edge(f))] = 1;
     }
     std::vector<std::pair<internal::WV, internal::WV>> todo;
