@@ -120,6 +120,11 @@ TEST(Map, Creatures) {
   expect_map_invariants(cp, f);
   EXPECT_LT(max_round_trip_error(cp, a, 500), 1e-6);
   EXPECT_LT(cp.statistics().distortion.l2_stretch, 1.5);
+  // The squeeze is measured (about 4e3 / 2e3 here: the creatures' limbs carry feature vertices at their tips).
+  for (double q : {cp.statistics().squeeze_source, cp.statistics().squeeze_target}) {
+    EXPECT_GE(q, 1.0);
+    EXPECT_LT(q, 1e4);
+  }
 }
 
 // A Polyhedron_3 source with Face_location queries.

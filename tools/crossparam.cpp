@@ -420,6 +420,7 @@ void write_map(const Options& o, const Map& cp, double read_s) {
        << "}, \"flips\": " << L.flips << "},\n";
     os << "  \"stretch_reweighted\": {\"source\": " << (S.stretch_reweighted_source ? "true" : "false")
        << ", \"target\": " << (S.stretch_reweighted_target ? "true" : "false") << "},\n";
+    os << "  \"squeeze\": {\"source\": " << json_number(S.squeeze_source) << ", \"target\": " << json_number(S.squeeze_target) << "},\n";
     os << "  \"smoothing\": {\"passes\": " << S.smoothing_source.iterations << ", \"kept_after\": " << S.smoothing_best_iteration
        << ", \"moves\": " << S.smoothing_source.moves + S.smoothing_target.moves
        << ", \"rejected\": " << S.smoothing_source.rejected + S.smoothing_target.rejected

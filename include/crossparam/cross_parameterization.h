@@ -25,6 +25,9 @@ struct Cross_parameterization_statistics {
   Distortion distortion;          ///< of the final F
   bool stretch_reweighted_source = false; ///< the mean-value weights needed stretch reweighting (§4.1 note)
   bool stretch_reweighted_target = false;
+  /// Per mesh, the largest vertex stretch of its final parameterization over the median one (1 is even; a
+  /// squeezed protrusion gives 10^3 and more, and the map is nearly singular there).
+  double squeeze_source = 0, squeeze_target = 0;
   double seconds_parameterization = 0; ///< §4.1, both meshes
   double seconds_smoothing = 0;        ///< §4.2, both meshes
   double seconds_certificate = 0;
@@ -185,6 +188,8 @@ public:
     locator_[0].build(P_[0]);
     locator_[1].build(P_[1]);
     stats_.distortion = measure_distortion();
+    stats_.squeeze_source = squeeze(P_[0]);
+    stats_.squeeze_target = squeeze(P_[1]);
     check_features(features);
     stats_.seconds_parameterization = sec(t1, t2);
     stats_.seconds_smoothing = sec(t3, t4);
@@ -246,6 +251,15 @@ public:
   }
 
 private:
+  /// The largest vertex stretch of a parameterization over its median.
+  static double squeeze(const internal::Base_parameterization& P) {
+    std::vector<double> s = P.vertex_stretch();
+    if (s.empty()) return 1;
+    const double mx = *std::max_element(s.begin(), s.end());
+    std::nth_element(s.begin(), s.begin() + s.size() / 2, s.end());
+    return s[s.size() / 2] > 0 ? mx / s[s.size() / 2] : HUGE_VAL;
+  }
+
   /// Shape of the base domain: each base edge as long as its two paths, averaged over both meshes after
   /// scaling each mesh to unit area; then every base triangle is made to satisfy the triangle inequality
   /// with some slack by shortening its longest edge.
