@@ -3,27 +3,23 @@
 #include <crossparam/io.h>
 #include <crossparam/patch_layout.h>
 
+#include "bench_cases.h"
+
 #include <gtest/gtest.h>
 
-#include <filesystem>
 
 using namespace crossparam;
-namespace fs = std::filesystem;
 
 namespace {
-
-fs::path bench_dir() { return fs::path(CROSSPARAM_SHARED_DIR) / "bench"; }
 
 class BenchLayout : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(BenchLayout, VerifiedLayouts) {
-  const fs::path dir = bench_dir() / GetParam();
-  if (!fs::exists(dir / "source.off")) GTEST_SKIP() << "shared data not found at " << dir << ": skipping";
-  Surface_mesh s, t;
-  read_triangle_mesh((dir / "source.off").string(), s);
-  read_triangle_mesh((dir / "target.off").string(), t);
+  std::optional<test_bench::Case> c = test_bench::load(GetParam());
+  if (!c) GTEST_SKIP() << test_bench::absent(GetParam());
+  Surface_mesh &s = c->source, &t = c->target;
+  const Feature_correspondence& f = c->features;
   const std::size_t ns = s.number_of_vertices(), nt = t.number_of_vertices();
-  Feature_correspondence f = read_feature_pairs((dir / "features.txt").string(), ns, nt);
   Surface_mesh s0 = s, t0 = t;
   Patch_layout L = compute_patch_layouts(s, t, f);
   Layout_verification check = verify_patch_layouts(s, t, L);
@@ -45,12 +41,7 @@ TEST_P(BenchLayout, VerifiedLayouts) {
   RecordProperty("splits_target", int(L.target.splits.size()));
 }
 
-std::vector<std::string> bench_cases() {
-  // The cases shipped in shared/bench; listed so that a missing directory shows up as a skip, not as nothing.
-  return {"horse0_horse7", "lion_cat", "shrec_381_382", "shrec_383_385", "wolf0_wolf2", "yang_cat_horse"};
-}
-
-INSTANTIATE_TEST_SUITE_P(Shared, BenchLayout, ::testing::ValuesIn(bench_cases()),
+INSTANTIATE_TEST_SUITE_P(Shared, BenchLayout, ::testing::ValuesIn(test_bench::names()),
                          [](const auto& info) { return info.param; });
 
 } // namespace

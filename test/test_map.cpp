@@ -13,6 +13,8 @@
 
 #include <gtest/gtest.h>
 
+#include "bench_cases.h"
+
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -178,13 +180,12 @@ Accuracy score(std::vector<double> e) {
 class BenchMap : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(BenchMap, CertifiedAndAccurate) {
-  const fs::path dir = fs::path(CROSSPARAM_SHARED_DIR) / "bench" / GetParam();
-  if (!fs::exists(dir / "source.off")) GTEST_SKIP() << "shared data not found at " << dir << ": skipping";
-  Surface_mesh s, t;
-  read_triangle_mesh((dir / "source.off").string(), s);
-  read_triangle_mesh((dir / "target.off").string(), t);
+  std::optional<test_bench::Case> c = test_bench::load(GetParam());
+  if (!c) GTEST_SKIP() << test_bench::absent(GetParam());
+  Surface_mesh &s = c->source, &t = c->target;
+  const fs::path& dir = c->dir;
   const Surface_mesh t0 = t;
-  Feature_correspondence f = read_feature_pairs((dir / "features.txt").string(), s.number_of_vertices(), t.number_of_vertices());
+  const Feature_correspondence& f = c->features;
   const std::size_t ns = s.number_of_vertices();
   Map cp(s, t, f);
   expect_map_invariants(cp, f);
@@ -243,8 +244,7 @@ TEST_P(BenchMap, CertifiedAndAccurate) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Shared, BenchMap,
-                         ::testing::Values("horse0_horse7", "lion_cat", "shrec_381_382", "shrec_383_385",
-                                           "wolf0_wolf2", "yang_cat_horse"),
+                         ::testing::ValuesIn(test_bench::names()),
                          [](const auto& info) { return info.param; });
 
 } // namespace

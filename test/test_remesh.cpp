@@ -10,11 +10,11 @@
 
 #include <gtest/gtest.h>
 
-#include <filesystem>
+#include "bench_cases.h"
+
 #include <iostream>
 
 using namespace crossparam;
-namespace fs = std::filesystem;
 using Map = Cross_parameterization<Surface_mesh, Surface_mesh>;
 using Remesher = Compatible_remesher<Surface_mesh, Surface_mesh>;
 
@@ -142,13 +142,9 @@ TEST(Morph, CompatibilityAndInterpolation) {
 class BenchRemesh : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(BenchRemesh, CompatibleAndClose) {
-  const fs::path dir = fs::path(CROSSPARAM_SHARED_DIR) / "bench" / GetParam();
-  if (!fs::exists(dir / "source.off")) GTEST_SKIP() << "shared data not found at " << dir << ": skipping";
-  Surface_mesh s, t;
-  read_triangle_mesh((dir / "source.off").string(), s);
-  read_triangle_mesh((dir / "target.off").string(), t);
-  Feature_correspondence f = read_feature_pairs((dir / "features.txt").string(), s.number_of_vertices(), t.number_of_vertices());
-  Outcome o = remesh_and_verify(s, t, f, 0.5);
+  std::optional<test_bench::Case> c = test_bench::load(GetParam());
+  if (!c) GTEST_SKIP() << test_bench::absent(GetParam());
+  Outcome o = remesh_and_verify(c->source, c->target, c->features, 0.5);
   RecordProperty("hausdorff_percent", std::to_string(o.check.hausdorff_target));
   EXPECT_TRUE(o.certificate);
   EXPECT_TRUE(o.check.compatible);
@@ -162,6 +158,5 @@ TEST_P(BenchRemesh, CompatibleAndClose) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Shared, BenchRemesh,
-                         ::testing::Values("horse0_horse7", "lion_cat", "shrec_381_382", "shrec_383_385",
-                                           "wolf0_wolf2", "yang_cat_horse"),
+                         ::testing::ValuesIn(test_bench::names()),
                          [](const auto& info) { return info.param; });
