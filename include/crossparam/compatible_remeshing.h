@@ -610,14 +610,6 @@ private:
   /// reproduces the flip's change of normals while the source keeps its geometry.
   std::size_t pseudo_flips(double cos_max) {
     const auto& m = S_.m;
-    // Target normal at a point: its face's normal (faces of the target are planar).
-    auto target_normal = [&](const internal::Work_location& l) {
-      const auto& mt = T_.m;
-      internal::WH h = mt.halfedge(l.face);
-      Kernel::Vector_3 n = internal::triangle_normal(mt.point(mt.source(h)), mt.point(mt.target(h)), mt.point(mt.target(mt.next(h))));
-      double len = std::sqrt(n.squared_length());
-      return len > 0 ? n / len : n;
-    };
     // Cosine between the normal of triangle (a, b, c) of M_st and the target's normal under its centroid.
     auto agreement = [&](internal::WV a, internal::WV b, internal::WV c) {
       Kernel::Vector_3 n = internal::triangle_normal(pos_[a], pos_[b], pos_[c]);
@@ -632,7 +624,10 @@ private:
         internal::Point_2 q((p[0].x() + p[1].x() + p[2].x()) / 3, (p[0].y() + p[1].y() + p[2].y()) / 3);
         if (!P_.base->locate_in_chart(fc, q, centroid)) return -1.0;
       }
-      return (n / len) * target_normal(locT_.locate(centroid));
+      // The target's unit normal at the centroid's image: its face's (faces of the target are planar).
+      const Kernel::Vector_3 nt = target_normal(locT_.locate(centroid).face);
+      const double lt = std::sqrt(nt.squared_length());
+      return lt > 0 ? (n / len) * (nt / lt) : 0.0;
     };
     struct Candidate {
       internal::WV u, v;
