@@ -83,6 +83,40 @@ double max_round_trip_error(const Map& cp, const Surface_mesh& s, std::size_t sa
 
 } // namespace
 
+// Base triangles keep their true shapes, so in the 4-triangle chart of a triangle the unfolded neighbours at a
+// corner whose base angles add up to more than a full turn overlap. A point of a face spanning the triangle and
+// one neighbour must then be located in that neighbour, never in the other one that overlaps it there.
+TEST(Map, ChartQuartersOverlap) {
+  // Octahedron: apex 0, equator 1-4, bottom 5. Short apex edges make the angles at the apex obtuse: three
+  // triangles there span 3 * 125.7 degrees > 360.
+  const std::vector<std::array<std::size_t, 3>> tris{{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 1},
+                                                     {5, 2, 1}, {5, 3, 2}, {5, 4, 3}, {5, 1, 4}};
+  internal::Base_mesh B;
+  B.build(tris, 6, [](int a, int b) { return a == 0 || b == 0 ? 1.0 : 1.78; });
+  // Chart of triangle 0 = (0, 1, 2): neighbour slots 0 (across 0-1: triangle 3) and 2 (across 2-0: triangle 1).
+  const int c = 0;
+  int s3 = -1, s1 = -1;
+  for (int n = 0; n < 3; ++n) {
+    if (B.nb[c][n] == 3) s3 = n;
+    if (B.nb[c][n] == 1) s1 = n;
+  }
+  ASSERT_GE(s3, 0);
+  ASSERT_GE(s1, 0);
+  // A point of triangle 1 = (0, 2, 3) near the apex and edge 0-3, in the chart of triangle 0 with triangle 1
+  // unfolded (slot 2; the quarter of slot 0 used to be searched first).
+  Base_location in1{1, {{0.9, 0.01, 0.09}}};
+  internal::Point_2 p;
+  ASSERT_TRUE(B.frame_point(c, s1, in1, p));
+  // The unfolded triangle 3 overlaps the unfolded triangle 1 there...
+  Base_location any;
+  EXPECT_FALSE(B.locate_in_chart(c, p, any)) << "an ambiguous chart point must be refused";
+  // ...and with the frame's slot the point goes back where it came from.
+  Base_location back;
+  ASSERT_TRUE(B.locate_in_chart(c, p, back, s1));
+  EXPECT_EQ(back.tri, 1);
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(back.b[i], in1.b[i], 1e-12);
+}
+
 TEST(Map, GeneratedPairs) {
   for (unsigned seed : {101u, 202u, 303u}) {
     Surface_mesh a = shapes::make_deformed_sphere(seed, 1500, true), b = shapes::make_deformed_sphere(seed + 7, 1200, true);

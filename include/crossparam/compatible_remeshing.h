@@ -622,7 +622,7 @@ private:
         int fc, fn;
         if (!P_.base->canonical_frame(ls, fc, fn, p)) return -1.0;
         internal::Point_2 q((p[0].x() + p[1].x() + p[2].x()) / 3, (p[0].y() + p[1].y() + p[2].y()) / 3);
-        if (!P_.base->locate_in_chart(fc, q, centroid)) return -1.0;
+        if (!P_.base->locate_in_chart(fc, q, centroid, fn)) return -1.0;
       }
       // The target's unit normal at the centroid's image: its face's (faces of the target are planar).
       const Kernel::Vector_3 nt = target_normal(locT_.locate(centroid).face);

@@ -64,6 +64,7 @@ inline Point_2 third_corner(const Point_2& a, const Point_2& b, double la, doubl
 
 /// The base mesh with adjacency.
 struct Base_mesh {
+  static constexpr int any_quarter = 3; ///< locate_in_chart: search every quarter of the chart
   std::vector<std::array<int, 3>> tri; ///< feature ids, counter-clockwise
   std::vector<std::array<int, 3>> nb;  ///< nb[t][i]: triangle across edge (tri[t][i], tri[t][i+1])
   std::vector<std::vector<int>> around; ///< base triangles at each feature
@@ -260,27 +261,30 @@ struct Base_mesh {
   }
 
   /// Location of a point given in the frame of c with neighbour slots unfolded (the 4-triangle chart):
-  /// finds the quarter that contains it with exact predicates. Returns false outside the chart.
-  bool locate_in_chart(int c, const Point_2& p, Base_location& out) const {
+  /// finds the quarter that contains it with exact predicates. Triangles keep their true shapes, so two
+  /// unfolded neighbours overlap where the base angles around a corner of c add up to more than a full turn:
+  /// a point in two neighbour quarters is ambiguous, and refused. Returns false outside the chart and for an
+  /// ambiguous point.
+  /// `only`, the slot of a canonical frame, restricts the search to c and the quarter of neighbour slot `only`
+  /// (-1: c alone). The point is then known to be in those triangles up to rounding, so one just outside them
+  /// is clamped onto the nearer one, and the call always succeeds.
+  bool locate_in_chart(int c, const Point_2& p, Base_location& out, int only = any_quarter) const {
     const auto& qc = q[c];
     auto inside = [&](const Point_2& a, const Point_2& b, const Point_2& d, std::array<CGAL::Orientation, 3>& o) {
       o = {CGAL::orientation(b, d, p), CGAL::orientation(d, a, p), CGAL::orientation(a, b, p)};
       return o[0] != CGAL::NEGATIVE && o[1] != CGAL::NEGATIVE && o[2] != CGAL::NEGATIVE;
     };
-    std::array<CGAL::Orientation, 3> o;
-    if (inside(qc[0], qc[1], qc[2], o)) {
+    auto in_c = [&](const std::array<CGAL::Orientation, 3>& o) {
       out.tri = c;
       out.b = frame_barycentric(c, p);
       for (int i = 0; i < 3; ++i)
         if (o[i] == CGAL::ZERO) out.b[i] = 0;
       normalise(out.b);
       return true;
-    }
-    for (int n = 0; n < 3; ++n) {
+    };
+    auto in_quarter = [&](int n, const std::array<CGAL::Orientation, 3>& o) {
       // Quarter of neighbour n: corners (Q_{n+1}, Q_n, far) counter-clockwise.
-      const Point_2 &A = qc[(n + 1) % 3], &B = qc[n], &F = far[c][n];
-      if (!inside(A, B, F, o)) continue;
-      std::array<double, 3> lam = barycentric_2(A, B, F, p);
+      std::array<double, 3> lam = barycentric_2(qc[(n + 1) % 3], qc[n], far[c][n], p);
       for (int i = 0; i < 3; ++i)
         if (o[i] == CGAL::ZERO) lam[i] = 0;
       const int u = nb[c][n];
@@ -293,8 +297,25 @@ struct Base_mesh {
       }
       normalise(out.b);
       return true;
+    };
+    std::array<CGAL::Orientation, 3> o, oc;
+    if (inside(qc[0], qc[1], qc[2], oc) || only == -1) return in_c(oc);
+    if (only != any_quarter) {
+      if (inside(qc[(only + 1) % 3], qc[only], far[c][only], o)) return in_quarter(only, o);
+      // Rounding put p just outside both: the triangle whose smallest barycentric is the larger.
+      const auto bc = barycentric_2(qc[0], qc[1], qc[2], p);
+      const auto bn = barycentric_2(qc[(only + 1) % 3], qc[only], far[c][only], p);
+      if (std::min({bc[0], bc[1], bc[2]}) >= std::min({bn[0], bn[1], bn[2]})) return in_c(oc);
+      return in_quarter(only, o);
     }
-    return false;
+    int found = -1;
+    std::array<CGAL::Orientation, 3> of;
+    for (int n = 0; n < 3; ++n) {
+      if (!inside(qc[(n + 1) % 3], qc[n], far[c][n], o)) continue;
+      if (found >= 0) return false; // in two overlapping quarters
+      found = n, of = o;
+    }
+    return found >= 0 && in_quarter(found, of);
   }
 
   static void normalise(std::array<double, 3>& b) {

@@ -95,7 +95,9 @@ struct Base_parameterization {
     if (!base->canonical_frame(ls, c, n, p)) throw Algorithm_error("internal error: face outside every chart");
     Point_2 q(b[0] * p[0].x() + b[1] * p[1].x() + b[2] * p[2].x(), b[0] * p[0].y() + b[1] * p[1].y() + b[2] * p[2].y());
     Base_location out;
-    if (!base->locate_in_chart(c, q, out)) out = *ls[0]; // cannot happen: q is inside the chart
+    // q is in the frame's one or two triangles (up to rounding): only those may hold it, the quarter of
+    // another neighbour can overlap them.
+    base->locate_in_chart(c, q, out, n);
     return out;
   }
 
