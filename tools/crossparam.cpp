@@ -97,6 +97,14 @@ std::array<double, 3> parse_vector(const std::string& name, const std::string& v
   return out;
 }
 
+/// A whole number in [lo, hi] written in decimal digits alone, or a usage error with `message`.
+unsigned whole_number(const std::string& v, unsigned long lo, unsigned long hi, const char* message) {
+  char* end = nullptr;
+  const unsigned long n = std::strtoul(v.c_str(), &end, 10);
+  if (v.empty() || *end != '\0' || n < lo || n > hi) throw Usage_error(message);
+  return unsigned(n);
+}
+
 Options parse(int argc, char** argv) {
   Options o;
   o.render.up = {0, 0, 1};
@@ -116,13 +124,7 @@ Options parse(int argc, char** argv) {
     else if (a == "--no-smoothing") o.smoothing = false;
     else if (a == "--up") o.render.up = parse_vector(a, value());
     else if (a == "--view") o.render.view_direction = parse_vector(a, value());
-    else if (a == "--iterations") {
-      std::string v = value();
-      char* end = nullptr;
-      unsigned long n = std::strtoul(v.c_str(), &end, 10);
-      if (v.empty() || *end != '\0' || n > 100000) throw Usage_error("--iterations needs a whole number up to 100000");
-      o.iterations = unsigned(n);
-    }
+    else if (a == "--iterations") o.iterations = whole_number(value(), 0, 100000, "--iterations needs a whole number up to 100000");
     else if (a == "--tolerance") {
       std::string v = value();
       char* end = nullptr;
@@ -130,13 +132,7 @@ Options parse(int argc, char** argv) {
       if (v.empty() || *end != '\0' || !(t > 0) || !(t <= 100)) throw Usage_error("--tolerance needs a percentage in (0, 100]");
       o.tolerance = t;
     }
-    else if (a == "--frames") {
-      std::string v = value();
-      char* end = nullptr;
-      unsigned long n = std::strtoul(v.c_str(), &end, 10);
-      if (v.empty() || *end != '\0' || n < 2 || n > 10000) throw Usage_error("--frames needs a whole number from 2 to 10000");
-      o.frames = unsigned(n);
-    }
+    else if (a == "--frames") o.frames = whole_number(value(), 2, 10000, "--frames needs a whole number from 2 to 10000");
     else if (a == "--quiet" || a == "-q") o.quiet = true;
     else if (a == "-h" || a == "--help") throw Usage_error("");
     else if (!a.empty() && a[0] == '-') throw Usage_error("unknown option " + a);

@@ -79,10 +79,11 @@ struct Remeshing_statistics {
   double tolerance = 0;              ///< ε, percent
   double max_error_initial = 0, l2_error_initial = 0; ///< e(v) of M_st right after the projection
   double max_error = 0, l2_error = 0; ///< e(v) of the result (max and root mean square over target vertices)
-  double max_chord_error = 0;        ///< largest distance of an output edge midpoint from the target surface
+  double max_chord_error = 0;        ///< largest distance of an output edge midpoint or face centroid from the
+                                     ///< image of the same source point on the target
   double psnr = 0;                   ///< 20 log10(diagonal / L2 error), as the paper's Table 2
   std::size_t flipped_faces = 0;     ///< output faces whose normal opposes the target's where they land
-  bool converged = false;            ///< max error <= tolerance
+  bool converged = false;            ///< max error and max chord error <= tolerance, and no flipped face
   double seconds_cross_parameterization = 0, seconds_smoothing = 0, seconds_refinement = 0, seconds_flips = 0,
          seconds_certificate = 0, seconds_total = 0;
 };
@@ -616,14 +617,7 @@ private:
       double len = std::sqrt(n.squared_length());
       if (!(len > 0)) return -1.0;
       Base_location centroid;
-      {
-        std::array<const Base_location*, 3> ls{&P_[a], &P_[b], &P_[c]};
-        std::array<internal::Point_2, 3> p;
-        int fc, fn;
-        if (!P_.base->canonical_frame(ls, fc, fn, p)) return -1.0;
-        internal::Point_2 q((p[0].x() + p[1].x() + p[2].x()) / 3, (p[0].y() + p[1].y() + p[2].y()) / 3);
-        if (!P_.base->locate_in_chart(fc, q, centroid, fn)) return -1.0;
-      }
+      if (!P_.base->interpolate({&P_[a], &P_[b], &P_[c]}, {1.0 / 3, 1.0 / 3, 1.0 / 3}, centroid)) return -1.0;
       // The target's unit normal at the centroid's image: its face's (faces of the target are planar).
       const Kernel::Vector_3 nt = target_normal(locT_.locate(centroid).face);
       const double lt = std::sqrt(nt.squared_length());

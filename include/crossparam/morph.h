@@ -30,19 +30,8 @@ inline void check_compatible(const Polygon_soup& a, const Polygon_soup& b, const
   if (a.polygons.empty()) fail("no faces");
 }
 
-/// The points of the morph at parameter t in [0, 1] between the points of two compatible meshes:
-/// (1 - t) a + t b, vertex by vertex. With weights w_k summing to 1 over several compatible meshes,
-/// `blend` gives the N-way blend of §2.3.
-inline std::vector<std::array<double, 3>> morph(const std::vector<std::array<double, 3>>& a,
-                                                const std::vector<std::array<double, 3>>& b, double t) {
-  if (a.size() != b.size()) throw Incompatible_inputs_error("morph: the point lists differ in size");
-  std::vector<std::array<double, 3>> out(a.size());
-  for (std::size_t i = 0; i < a.size(); ++i)
-    for (int k = 0; k < 3; ++k) out[i][k] = (1 - t) * a[i][k] + t * b[i][k];
-  return out;
-}
-
-/// Weighted blend of the points of several compatible meshes (weights are used as given; they normally sum to 1).
+/// Weighted blend of the points of several compatible meshes (weights are used as given; they normally sum to
+/// 1): the N-way blend of §2.3.
 inline std::vector<std::array<double, 3>> blend(const std::vector<const std::vector<std::array<double, 3>>*>& meshes,
                                                 const std::vector<double>& weights) {
   if (meshes.empty() || meshes.size() != weights.size()) throw Input_error("blend: one weight per mesh is needed");
@@ -53,6 +42,14 @@ inline std::vector<std::array<double, 3>> blend(const std::vector<const std::vec
       for (int k = 0; k < 3; ++k) out[i][k] += weights[m] * (*meshes[m])[i][k];
   }
   return out;
+}
+
+/// The points of the morph at parameter t in [0, 1] between the points of two compatible meshes:
+/// (1 - t) a + t b, vertex by vertex (the blend of the two with weights 1 - t and t).
+inline std::vector<std::array<double, 3>> morph(const std::vector<std::array<double, 3>>& a,
+                                                const std::vector<std::array<double, 3>>& b, double t) {
+  if (a.size() != b.size()) throw Incompatible_inputs_error("morph: the point lists differ in size");
+  return blend({&a, &b}, {1 - t, t});
 }
 
 } // namespace crossparam

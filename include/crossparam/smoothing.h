@@ -107,14 +107,7 @@ public:
         }
         const Base_location before = p_[v];
         p_[v] = moved;
-        bool valid = true;
-        for (WF f : CGAL::faces_around_target(m.halfedge(v), m))
-          if (p_.face_orientation(f) != CGAL::POSITIVE) {
-            valid = false;
-            break;
-          }
-        if (valid) valid = accept_(v, moved);
-        if (!valid) {
+        if (!p_.star_positive(v) || !accept_(v, moved)) {
           p_[v] = before;
           ++r.rejected;
           break;

@@ -247,6 +247,19 @@ struct Base_mesh {
     return false;
   }
 
+  /// The point with barycentrics `b` of the straight triangle spanned by three locations in their canonical
+  /// frame: the piecewise-linear map inside a mesh triangle. False if the locations fit no frame.
+  bool interpolate(const std::array<const Base_location*, 3>& ls, const std::array<double, 3>& b,
+                   Base_location& out) const {
+    std::array<Point_2, 3> p;
+    int c, n;
+    if (!canonical_frame(ls, c, n, p)) return false;
+    const Point_2 q(b[0] * p[0].x() + b[1] * p[1].x() + b[2] * p[2].x(), b[0] * p[0].y() + b[1] * p[1].y() + b[2] * p[2].y());
+    // q is in the frame's one or two triangles (up to rounding): only those may hold it, the quarter of another
+    // neighbour can overlap them.
+    return locate_in_chart(c, q, out, n);
+  }
+
   /// Orientation of the image of a mesh triangle, decided exactly in its canonical frame.
   /// Returns CGAL::ZERO as well when the triangle fits in no frame (the caller treats it as invalid).
   CGAL::Orientation triangle_orientation(const Base_location& a, const Base_location& b, const Base_location& c,

@@ -89,15 +89,9 @@ struct Base_parameterization {
     WV vs[3] = {m.source(h), m.target(h), m.target(m.next(h))};
     for (int i = 0; i < 3; ++i)
       if (b[i] == 1.0) return loc[vs[i]];
-    std::array<const Base_location*, 3> ls{&loc[vs[0]], &loc[vs[1]], &loc[vs[2]]};
-    std::array<Point_2, 3> p;
-    int c, n;
-    if (!base->canonical_frame(ls, c, n, p)) throw Algorithm_error("internal error: face outside every chart");
-    Point_2 q(b[0] * p[0].x() + b[1] * p[1].x() + b[2] * p[2].x(), b[0] * p[0].y() + b[1] * p[1].y() + b[2] * p[2].y());
     Base_location out;
-    // q is in the frame's one or two triangles (up to rounding): only those may hold it, the quarter of
-    // another neighbour can overlap them.
-    base->locate_in_chart(c, q, out, n);
+    if (!base->interpolate({&loc[vs[0]], &loc[vs[1]], &loc[vs[2]]}, b, out))
+      throw Algorithm_error("internal error: face outside every chart");
     return out;
   }
 

@@ -578,17 +578,15 @@ public:
     const WV vs[3] = {m.source(h), m.target(h), m.target(m.next(h))};
     const int o = forig[f];
     std::array<double, 3> r{{0, 0, 0}};
-    double q[3] = {0, 0, 0};
     for (int i = 0; i < 3; ++i) {
       std::array<double, 3> ri;
       if (!rep_in(vs[i], o, ri)) throw Algorithm_error("internal error: split face lies in no original face");
       for (int k = 0; k < 3; ++k) r[k] += b[i] * ri[k];
-      const Point_3& p = m.point(vs[i]);
-      q[0] += b[i] * p.x(), q[1] += b[i] * p.y(), q[2] += b[i] * p.z();
     }
+    const Point_3 q = barycentric_point(m.point(vs[0]), m.point(vs[1]), m.point(vs[2]), b);
     WH hc = CGAL::Euler::add_center_vertex(h, m);
     WV w = m.target(hc);
-    m.point(w) = Point_3(q[0], q[1], q[2]);
+    m.point(w) = q;
     for (WF g : CGAL::faces_around_target(hc, m)) forig[g] = o;
     record_new_vertex(w, o, r, std::array<WV, 3>{{vs[0], vs[1], vs[2]}}, b);
     return w;
