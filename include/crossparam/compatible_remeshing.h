@@ -268,12 +268,7 @@ private:
   }
   bool converged() const { return max_e_ <= eps_ && max_chord_ <= eps_ && flipped_ == 0; }
 
-  Point_3 target_point(const internal::Work_location& l) const {
-    const auto& m = T_.m;
-    internal::WH h = m.halfedge(l.face);
-    const Point_3 &a = m.point(m.source(h)), &b = m.point(m.target(h)), &c = m.point(m.target(m.next(h)));
-    return internal::barycentric_point(a, b, c, l.b);
-  }
+  Point_3 target_point(const internal::Work_location& l) const { return internal::point_at(T_.m, l); }
   Kernel::Vector_3 target_normal(internal::WF f) const {
     const auto& m = T_.m;
     internal::WH h = m.halfedge(f);
@@ -347,7 +342,6 @@ private:
     // Per face of M_st: the chord deviation at the centroid (reported), and whether the face is flipped.
     flipped_ = 0;
     face_chord_.assign(ms.number_of_faces(), 0.0);
-    face_flipped_.assign(ms.number_of_faces(), 0);
     for (internal::WF f : ms.faces()) {
       internal::WH h = ms.halfedge(f);
       const internal::WV x = ms.source(h), y = ms.target(h), z = ms.target(ms.next(h));
@@ -357,9 +351,8 @@ private:
       max_chord_ = std::max(max_chord_, chord);
       face_chord_[f] = chord;
       // Flipped: the normal opposes the target's under each corner and under the centroid.
-      face_flipped_[f] = flipped(a, img_[x].face, b, img_[y].face, c, img_[z].face) &&
-                         internal::triangle_normal(a, b, c) * target_normal(l.face) < 0;
-      flipped_ += face_flipped_[f];
+      flipped_ += flipped(a, img_[x].face, b, img_[y].face, c, img_[z].face) &&
+                  internal::triangle_normal(a, b, c) * target_normal(l.face) < 0;
     }
   }
 
@@ -702,7 +695,6 @@ private:
   std::vector<double> edge_error_;           ///< Eq. 2 per source edge
   std::vector<double> edge_chord_;           ///< per source edge: M_st's edge midpoint's distance from F(midpoint)
   std::vector<double> face_chord_;           ///< per source face: M_st's centroid's distance from F(centroid)
-  std::vector<char> face_flipped_;           ///< per source face: M_st's face is flipped against the target
   std::vector<internal::Work_location> pre_; ///< per target vertex: its preimage on the source, F^-1(v)
   std::vector<char> dirty_;                  ///< per source face: changed by a split of the current round
   std::size_t flipped_ = 0;

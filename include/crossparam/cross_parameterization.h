@@ -497,10 +497,7 @@ private:
     const auto& mt = B_.side[1].m;
     std::vector<Point_3> image(ms.number_of_vertices());
     for (internal::WV v : ms.vertices()) {
-      internal::Work_location l = locator_[1].locate(P_[0][v]);
-      internal::WH h = mt.halfedge(l.face);
-      const Point_3 &a = mt.point(mt.source(h)), &b = mt.point(mt.target(h)), &c = mt.point(mt.target(mt.next(h)));
-      image[v] = internal::barycentric_point(a, b, c, l.b);
+      image[v] = internal::point_at(mt, locator_[1].locate(P_[0][v]));
     }
     std::vector<std::array<Point_3, 3>> from, to;
     for (internal::WF f : ms.faces()) {

@@ -20,6 +20,12 @@ struct Work_location {
   std::array<double, 3> b{{0, 0, 0}};
 };
 
+/// The point of mesh m at location l.
+inline Point_3 point_at(const Work_mesh& m, const Work_location& l) {
+  const WH h = m.halfedge(l.face);
+  return barycentric_point(m.point(m.source(h)), m.point(m.target(h)), m.point(m.target(m.next(h))), l.b);
+}
+
 class Base_locator {
 public:
   void build(const Base_parameterization& P) {
