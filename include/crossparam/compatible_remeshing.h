@@ -512,17 +512,12 @@ private:
       mark[m.edge(longest_edge(f))] = 1;
     }
     std::vector<std::pair<internal::WV, internal::WV>> todo;
-    for (internal::WE e : m.edges()) {
-      if (!mark[e]) continue;
-      internal::WH h = m.halfedge(e);
-      const internal::WV u = m.source(h), v = m.target(h);
-      if (CGAL::squared_distance(pos_[u], pos_[v]) > 0.25 * eps_ * eps_) todo.push_back({u, v});
-    }
-    for (const auto& [u, v] : fallback)
-      if (CGAL::squared_distance(pos_[u], pos_[v]) > 0.25 * eps_ * eps_) todo.push_back({u, v});
+    for (internal::WE e : m.edges())
+      if (mark[e]) todo.push_back({m.source(m.halfedge(e)), m.target(m.halfedge(e))});
+    todo.insert(todo.end(), fallback.begin(), fallback.end());
     for (const auto& [u, v] : todo) {
-      internal::WH h = m.halfedge(u, v);
-      if (h == internal::WH()) continue; // already split
+      if (m.halfedge(u, v) == internal::WH()) continue; // already split
+      if (!(CGAL::squared_distance(pos_[u], pos_[v]) > 0.25 * eps_ * eps_)) continue; // shorter than ε/2
       for (double t : {0.5, 0.375, 0.625, 0.25, 0.75}) // at the midpoint if that folds nothing over
         if (split(u, v, t)) break;
     }
