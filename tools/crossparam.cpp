@@ -57,6 +57,8 @@ const char* const usage_text =
     "  --no-flips        skip the path flips of section 3.3\n"
     "  --iterations N    smoothing passes at most (map; default 200)\n"
     "  --no-smoothing    skip the smoothing of section 4.2 (map)\n"
+    "  --no-protrusion-features\n"
+    "                    use only the given features (map): no pairs added at the tips of squeezed protrusions\n"
     "  --tolerance PCT   remesh: approximation tolerance in percent of the target's bounding-box diagonal\n"
     "                    (default 0.5)\n"
     "  --frames N        morph: number of meshes written, both ends included (default 9)\n"
@@ -81,6 +83,7 @@ struct Options {
   bool quiet = false;
   bool png = false;
   bool smoothing = true;
+  bool protrusion_features = true;
   unsigned iterations = 200;
   double tolerance = 0.5;
   unsigned frames = 9;
@@ -122,6 +125,7 @@ Options parse(int argc, char** argv) {
     else if (a == "--no-flips") o.flips = false;
     else if (a == "--png") o.png = true;
     else if (a == "--no-smoothing") o.smoothing = false;
+    else if (a == "--no-protrusion-features") o.protrusion_features = false;
     else if (a == "--up") o.render.up = parse_vector(a, value());
     else if (a == "--view") o.render.view_direction = parse_vector(a, value());
     else if (a == "--iterations") o.iterations = whole_number(value(), 0, 100000, "--iterations needs a whole number up to 100000");
@@ -375,8 +379,19 @@ Map compute_map(const Options& o, Surface_mesh& s, Surface_mesh& t, const Featur
   return Map(s, t, f,
              crossparam::parameters::apply_path_flips(
                  o.flips, crossparam::parameters::apply_smoothing(
-                              o.smoothing, CGAL::parameters::number_of_iterations(o.iterations))),
+                              o.smoothing, crossparam::parameters::protrusion_features(
+                                               o.protrusion_features, CGAL::parameters::number_of_iterations(o.iterations)))),
              CGAL::parameters::default_values());
+}
+
+/// The feature pairs the map added at protrusion tips, as a JSON array of [source, target] pairs.
+std::string protrusion_pairs_json(const Map& cp) {
+  const std::size_t n = cp.features().size(), added = cp.statistics().protrusion_features;
+  std::string out = "[";
+  for (std::size_t k = n - added; k < n; ++k)
+    out += (k == n - added ? "[" : ", [") + std::to_string(cp.features()[k].source) + ", " +
+           std::to_string(cp.features()[k].target) + "]";
+  return out + "]";
 }
 
 /// Writes the outputs of `crossparam map` into o.output.
@@ -414,6 +429,7 @@ void write_map(const Options& o, const Map& cp, double read_s) {
        << ", \"splits\": {\"source\": " << L.splits_source << ", \"target\": " << L.splits_target
        << "}, \"adjacency_splits\": {\"source\": " << L.adjacency_splits_source << ", \"target\": " << L.adjacency_splits_target
        << "}, \"flips\": " << L.flips << "},\n";
+    os << "  \"protrusion_features\": " << protrusion_pairs_json(cp) << ",\n";
     os << "  \"stretch_reweighted\": {\"source\": " << (S.stretch_reweighted_source ? "true" : "false")
        << ", \"target\": " << (S.stretch_reweighted_target ? "true" : "false") << "},\n";
     os << "  \"squeeze\": {\"source\": " << json_number(S.squeeze_source) << ", \"target\": " << json_number(S.squeeze_target) << "},\n";
@@ -424,7 +440,8 @@ void write_map(const Options& o, const Map& cp, double read_s) {
     os << "  \"distortion_before_smoothing\": " << dist(S.distortion_initial) << ",\n";
     os << "  \"distortion\": " << dist(S.distortion) << ",\n";
     os << "  \"certificate\": {\"source\": " << cert(cp.certificate(0)) << ", \"target\": " << cert(cp.certificate(1)) << "},\n";
-    os << "  \"seconds\": {\"read\": " << json_number(read_s) << ", \"layout\": " << json_number(L.seconds_total)
+    os << "  \"seconds\": {\"read\": " << json_number(read_s) << ", \"protrusion_probe\": " << json_number(S.seconds_probe)
+       << ", \"layout\": " << json_number(L.seconds_total)
        << ", \"parameterization\": " << json_number(S.seconds_parameterization)
        << ", \"smoothing\": " << json_number(S.seconds_smoothing) << ", \"certificate\": " << json_number(S.seconds_certificate)
        << ", \"total\": " << json_number(S.seconds_total) << "}\n}\n";
@@ -472,6 +489,7 @@ void write_remesh(const Options& o, const Map& cp, const Remesher& r, double rea
     os << "{\n  \"stage\": \"remesh\",\n";
     os << "  \"source_vertices\": " << S.source_vertices << ",\n  \"target_vertices\": " << S.target_vertices << ",\n";
     os << "  \"features\": " << C.layout.features << ",\n";
+    os << "  \"protrusion_features\": " << protrusion_pairs_json(cp) << ",\n";
     os << "  \"layout_vertices\": " << S.layout_vertices << ",\n";
     os << "  \"output_vertices\": " << S.output_vertices << ",\n  \"output_faces\": " << S.output_faces << ",\n";
     os << "  \"added_vertices_percent\": " << json_number(added) << ",\n";
@@ -485,7 +503,8 @@ void write_remesh(const Options& o, const Map& cp, const Remesher& r, double rea
     os << "  \"flipped_faces\": " << S.flipped_faces << ",\n";
     os << "  \"certificate\": " << (r.certificate().valid ? "true" : "false") << ",\n";
     os << "  \"iterations\": {\"smoothing_rounds\": " << S.smoothing_rounds << ", \"refinement_rounds\": " << S.refinement_rounds << "},\n";
-    os << "  \"seconds\": {\"read\": " << json_number(read_s) << ", \"layout\": " << json_number(C.layout.seconds_total)
+    os << "  \"seconds\": {\"read\": " << json_number(read_s) << ", \"protrusion_probe\": " << json_number(C.seconds_probe)
+       << ", \"layout\": " << json_number(C.layout.seconds_total)
        << ", \"parameterization\": " << json_number(C.seconds_parameterization)
        << ", \"smoothing\": " << json_number(C.seconds_smoothing) << ", \"map_total\": " << json_number(C.seconds_total)
        << ", \"adaptive_smoothing\": " << json_number(S.seconds_smoothing)

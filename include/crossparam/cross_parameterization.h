@@ -12,6 +12,7 @@
 #include <CGAL/Polygon_mesh_processing/locate.h>
 
 #include <chrono>
+#include <set>
 
 namespace crossparam {
 
@@ -21,6 +22,7 @@ struct Cross_parameterization_statistics {
   Smoothing_report smoothing_source, smoothing_target;
   unsigned smoothing_best_iteration = 0; ///< passes after which the kept (least distorted) state was reached
   std::size_t protrusion_warps = 0;  ///< base triangles re-aligned by align_protrusions (descriptor-guided)
+  std::size_t protrusion_features = 0; ///< feature pairs added at squeezed protrusion tips (after the user's)
   Distortion distortion_initial;  ///< of F right after the mean-value parameterization (§4.1)
   Distortion distortion;          ///< of the final F
   bool stretch_reweighted_source = false; ///< the mean-value weights needed stretch reweighting (§4.1 note)
@@ -28,6 +30,7 @@ struct Cross_parameterization_statistics {
   /// Per mesh, the largest vertex stretch of its final parameterization over the median one (1 is even; a
   /// squeezed protrusion gives 10^3 and more, and the map is nearly singular there).
   double squeeze_source = 0, squeeze_target = 0;
+  double seconds_probe = 0;            ///< the first map that finds the protrusion features (0 if none was made)
   double seconds_parameterization = 0; ///< §4.1, both meshes
   double seconds_smoothing = 0;        ///< §4.2, both meshes
   double seconds_certificate = 0;
@@ -75,13 +78,47 @@ public:
     using clock = std::chrono::steady_clock;
     auto sec = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
     const auto t0 = clock::now();
+    Smoothing_options so;
+    so.max_iterations = choose_parameter(get_parameter(np_source, CGAL::internal_np::number_of_iterations), 200u);
+    so.tolerance = choose_parameter(get_parameter(np_source, internal_np::smoothing_tolerance_t()), 1e-4);
+    const bool smooth = choose_parameter(get_parameter(np_source, internal_np::apply_smoothing_t()), true);
+    auto weights = choose_parameter(get_parameter(np_source, internal_np::smoothing_weights_t()), Mean_value_weights());
+
+    // Protrusion features: a first map, on copies of the meshes, finds the protrusions it squeezes; a feature
+    // pair at each tip makes the limb a corner of the base domain instead of a spot inside a patch.
+    features_ = features;
+    if (choose_parameter(get_parameter(np_source, internal_np::protrusion_features_t()), true)) {
+      // Copies in the same vertex order, so that feature indices carry over; validated first, as the copy
+      // assumes a closed manifold mesh.
+      check_triangle_mesh(tm_s, "source mesh");
+      check_triangle_mesh(tm_t, "target mesh");
+      Surface_mesh cs, ct;
+      internal::copy_in_order(tm_s, choose_parameter(get_parameter(np_source, CGAL::internal_np::vertex_point),
+                                                     get_const_property_map(CGAL::vertex_point, tm_s)), cs);
+      internal::copy_in_order(tm_t, choose_parameter(get_parameter(np_target, CGAL::internal_np::vertex_point),
+                                                     get_const_property_map(CGAL::vertex_point, tm_t)), ct);
+      using CGAL::parameters::number_of_iterations;
+      using namespace crossparam::parameters;
+      const bool flips = choose_parameter(get_parameter(np_source, internal_np::apply_path_flips_t()), true);
+      const bool consistent = choose_parameter(get_parameter(np_source, internal_np::consistent_paths_t()), true);
+      Cross_parameterization<Surface_mesh, Surface_mesh> probe(
+          cs, ct, features,
+          protrusion_features(false, smoothing_weights(weights, smoothing_tolerance(so.tolerance,
+              apply_smoothing(smooth, apply_path_flips(flips, consistent_paths(consistent,
+                  number_of_iterations(so.max_iterations))))))));
+      const Feature_correspondence tips = probe.protrusion_tips();
+      features_.insert(features_.end(), tips.begin(), tips.end());
+      stats_.protrusion_features = tips.size();
+      stats_.seconds_probe = sec(t0, clock::now());
+    }
+
     std::array<std::vector<int>, 2> work_tri;
-    layout_ = internal::compute_patch_layouts_impl(tm_s, tm_t, features, np_source, np_target, B_, true, &work_tri,
+    layout_ = internal::compute_patch_layouts_impl(tm_s, tm_t, features_, np_source, np_target, B_, true, &work_tri,
                                                    &link_s_, &link_t_);
     stats_.layout = layout_.statistics;
     {
       auto lengths = base_edge_lengths();
-      base_.build(layout_.base_triangles, features.size(),
+      base_.build(layout_.base_triangles, features_.size(),
                   [&](int a, int b) { return lengths.at({std::min(a, b), std::max(a, b)}); });
     }
     const auto t1 = clock::now();
@@ -121,13 +158,8 @@ public:
     stats_.distortion_initial = measure_distortion();
 
     // §4.2: local smoothing with the weights policy.
-    Smoothing_options so;
-    so.max_iterations = choose_parameter(get_parameter(np_source, CGAL::internal_np::number_of_iterations), 200u);
-    so.tolerance = choose_parameter(get_parameter(np_source, internal_np::smoothing_tolerance_t()), 1e-4);
-    const bool smooth = choose_parameter(get_parameter(np_source, internal_np::apply_smoothing_t()), true);
     const auto t3 = clock::now();
     if (smooth) {
-      auto weights = choose_parameter(get_parameter(np_source, internal_np::smoothing_weights_t()), Mean_value_weights());
       auto ws = weights, wt = weights;
       ws.prepare(B_.side[0].m);
       wt.prepare(B_.side[1].m);
@@ -190,7 +222,7 @@ public:
     stats_.distortion = measure_distortion();
     stats_.squeeze_source = squeeze(P_[0]);
     stats_.squeeze_target = squeeze(P_[1]);
-    check_features(features);
+    check_features(features_);
     stats_.seconds_parameterization = sec(t1, t2);
     stats_.seconds_smoothing = sec(t3, t4);
     stats_.seconds_certificate = sec(t4, t5);
@@ -219,6 +251,112 @@ public:
   const Cross_parameterization_statistics& statistics() const { return stats_; }
   /// Vertex count of the input meshes, before any refinement.
   std::size_t input_vertices(int side) const { return B_.side[side].n_original_vertices; }
+  /// The features of the map: the user's, then the protrusion features added (statistics().protrusion_features).
+  const Feature_correspondence& features() const { return features_; }
+
+  /// \brief Feature pairs that would remove this map's worst squeeze: one per protrusion tip.
+  ///
+  /// A protrusion without a feature inside one patch (a limb, a tail, an ear) is squeezed exponentially by
+  /// the parameterization: its vertices' stretch is 10^4 to 10^8 times the median. Such a cluster (connected
+  /// vertices above 100 times the median, at least `min_size` of them, peaking above `min_squeeze` times the
+  /// median) has its tip where the stretch peaks. The tip's partner on the other mesh is the vertex with the
+  /// nearest geodesic-distance descriptor (distances to the features); if that lies in a squeezed cluster of
+  /// the other mesh, the two tips are paired. Vertices are input vertices (the nearest one to a split vertex);
+  /// no vertex already a feature is used again.
+  Feature_correspondence protrusion_tips(double min_squeeze = 1e4, std::size_t min_size = 20) const {
+    using internal::WV;
+    struct Cluster {
+      WV tip;
+      double squeeze = 0;
+      std::size_t size = 0;
+    };
+    std::array<std::vector<Cluster>, 2> clusters;
+    std::array<std::vector<int>, 2> cluster_of;
+    for (int k = 0; k < 2; ++k) {
+      const internal::Work_mesh& m = B_.side[k].m;
+      const std::vector<double> st = P_[k].vertex_stretch();
+      std::vector<double> sorted = st;
+      std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+      const double member = 100 * sorted[sorted.size() / 2];
+      cluster_of[k].assign(m.number_of_vertices(), -1);
+      for (WV v : m.vertices()) {
+        if (cluster_of[k][v] >= 0 || !(st[v] >= member)) continue;
+        const int id = int(clusters[k].size());
+        Cluster c{v, 0, 0};
+        std::vector<WV> queue{v};
+        cluster_of[k][v] = id;
+        for (std::size_t i = 0; i < queue.size(); ++i) {
+          if (st[queue[i]] > c.squeeze) c = {queue[i], st[queue[i]], 0};
+          for (WV w : CGAL::vertices_around_target(queue[i], m))
+            if (cluster_of[k][w] < 0 && st[w] >= member) {
+              cluster_of[k][w] = id;
+              queue.push_back(w);
+            }
+        }
+        c.size = queue.size();
+        c.squeeze /= member / 100;
+        clusters[k].push_back(c);
+      }
+    }
+    auto strong = [&](int k, int c) {
+      return c >= 0 && clusters[k][c].squeeze >= min_squeeze && clusters[k][c].size >= min_size;
+    };
+    // The input vertex nearest (in edges) to v.
+    auto input_vertex = [&](int k, WV v) {
+      const internal::Layout_mesh& L = B_.side[k];
+      std::vector<WV> queue{v};
+      std::set<WV> seen{v};
+      for (std::size_t i = 0; i < queue.size(); ++i) {
+        if (std::size_t(queue[i]) < L.n_original_vertices) return queue[i];
+        for (WV w : CGAL::vertices_around_target(queue[i], L.m))
+          if (seen.insert(w).second) queue.push_back(w);
+      }
+      return v;
+    };
+    // The input vertex of the other mesh whose descriptor is nearest to v's.
+    auto partner = [&](int k, WV v) {
+      const internal::Layout_mesh &A = B_.side[k], &B = B_.side[1 - k];
+      double best = HUGE_VAL;
+      WV arg(0);
+      for (std::size_t i = 0; i < B.n_original_vertices; ++i) {
+        const WV u{WV::size_type(i)};
+        double d = 0;
+        for (std::size_t j = 0; j < A.desc[v].size(); ++j) d += CGAL::square(double(A.desc[v][j]) - double(B.desc[u][j]));
+        if (d < best) {
+          best = d;
+          arg = u;
+        }
+      }
+      return arg;
+    };
+    std::array<std::set<std::size_t>, 2> used;
+    for (const Feature_pair& p : features_) {
+      used[0].insert(p.source);
+      used[1].insert(p.target);
+    }
+    Feature_correspondence out;
+    auto add = [&](WV vs, WV vt) {
+      const std::size_t a = std::size_t(input_vertex(0, vs)), b = std::size_t(input_vertex(1, vt));
+      if (used[0].count(a) || used[1].count(b)) return;
+      used[0].insert(a);
+      used[1].insert(b);
+      out.push_back({a, b});
+    };
+    std::vector<bool> paired(clusters[1].size(), false);
+    for (std::size_t c = 0; c < clusters[0].size(); ++c) {
+      if (!strong(0, int(c))) continue;
+      WV t = partner(0, clusters[0][c].tip);
+      const int ct = cluster_of[1][t];
+      if (strong(1, ct)) {
+        t = clusters[1][ct].tip;
+        paired[ct] = true;
+      }
+      add(clusters[0][c].tip, t);
+    }
+    for (std::size_t c = 0; c < clusters[1].size(); ++c)
+      if (strong(1, int(c)) && !paired[c]) add(partner(1, clusters[1][c].tip), clusters[1][c].tip);
+    return out;
+  }
 
   // ---- internals exposed for the remeshing stage and the CLI ----
   const internal::Layout_builder& work() const { return B_; }
@@ -528,6 +666,7 @@ private:
 
   SourceMesh& tm_s_;
   TargetMesh& tm_t_;
+  Feature_correspondence features_;
   internal::Layout_builder B_;
   internal::Mesh_link<SourceMesh> link_s_;
   internal::Mesh_link<TargetMesh> link_t_;

@@ -19,6 +19,7 @@ struct consistent_paths_t {};   ///< bool: descriptor-guided consistent matching
 struct smoothing_weights_t {};   ///< a model of SmoothingWeights (default Mean_value_weights)
 struct smoothing_tolerance_t {}; ///< double, base-edge units (default 1e-4)
 struct apply_smoothing_t {};     ///< bool (default true)
+struct protrusion_features_t {}; ///< bool (default true)
 // Compatible remeshing (compatible_remeshing.h)
 struct tolerance_t {};          ///< double, percent of the target's bounding-box diagonal (default 0.5)
 struct normal_deviation_t {};   ///< double, degrees (default 30)
@@ -55,6 +56,9 @@ CROSSPARAM_ADD_NAMED_PARAMETER(smoothing_weights)
 CROSSPARAM_ADD_NAMED_PARAMETER(smoothing_tolerance)
 /// \brief `bool`, default `true`: whether to smooth the parameterizations (§4.2).
 CROSSPARAM_ADD_NAMED_PARAMETER(apply_smoothing)
+/// \brief `bool`, default `true`: add feature pairs at the tips of protrusions that a first map squeezes (an
+/// addition to the paper; see the user manual). The pairs added are appended to the user's.
+CROSSPARAM_ADD_NAMED_PARAMETER(protrusion_features)
 
 /// \brief `double`, default 0.5: approximation tolerance ε of §5, in percent of the target's bounding-box diagonal.
 CROSSPARAM_ADD_NAMED_PARAMETER(tolerance)

@@ -47,25 +47,41 @@ struct Patch_layout {
 
 namespace internal {
 
-/// Copies a user's mesh into a working Surface_mesh with coordinates scaled into a unit box (predicates
-/// stay safe at any input scale), oriented outward. Vertex k of the copy is the k-th vertex of vertices(tm).
+/// The triangles of a mesh as a soup: points in vertices(tm) order (as doubles), faces in faces(tm) order.
 template <class TriangleMesh, class VertexPointMap>
-void make_work_mesh(const TriangleMesh& tm, VertexPointMap vpm, Layout_mesh& out) {
+void triangle_soup(const TriangleMesh& tm, VertexPointMap vpm, std::vector<Point_3>& points,
+                   std::vector<std::array<std::size_t, 3>>& tris) {
   using vertex_descriptor = typename boost::graph_traits<TriangleMesh>::vertex_descriptor;
-  // Copy as a soup in vertices(tm) / faces(tm) order; the soup builder handles any face order.
   std::vector<vertex_descriptor> order(vertices(tm).begin(), vertices(tm).end());
   std::map<vertex_descriptor, std::size_t> index;
-  std::vector<Point_3> points;
   for (std::size_t i = 0; i < order.size(); ++i) {
     index[order[i]] = i;
     const auto& p = get(vpm, order[i]);
     points.emplace_back(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
   }
-  std::vector<std::array<std::size_t, 3>> tris;
   for (auto f : faces(tm)) { // corners in vertices_around_face order: the file order for meshes we read
     auto h = halfedge(f, tm);
     tris.push_back({index[target(h, tm)], index[target(next(h, tm), tm)], index[source(h, tm)]});
   }
+}
+
+/// A Surface_mesh copy of a validated triangle mesh with the same vertex and face order.
+template <class TriangleMesh, class VertexPointMap>
+void copy_in_order(const TriangleMesh& tm, VertexPointMap vpm, Surface_mesh& out) {
+  std::vector<Point_3> points;
+  std::vector<std::array<std::size_t, 3>> tris;
+  triangle_soup(tm, vpm, points, tris);
+  CGAL::Polygon_mesh_processing::polygon_soup_to_polygon_mesh(points, tris, out);
+}
+
+/// Copies a user's mesh into a working Surface_mesh with coordinates scaled into a unit box (predicates
+/// stay safe at any input scale), oriented outward. Vertex k of the copy is the k-th vertex of vertices(tm).
+template <class TriangleMesh, class VertexPointMap>
+void make_work_mesh(const TriangleMesh& tm, VertexPointMap vpm, Layout_mesh& out) {
+  // Copy as a soup in vertices(tm) / faces(tm) order; the soup builder handles any face order.
+  std::vector<Point_3> points;
+  std::vector<std::array<std::size_t, 3>> tris;
+  triangle_soup(tm, vpm, points, tris);
   CGAL::Polygon_mesh_processing::polygon_soup_to_polygon_mesh(points, tris, out.m);
   if (out.m.number_of_vertices() != points.size() || out.m.number_of_faces() != tris.size())
     throw Algorithm_error("internal error: mesh copy changed the element counts");
