@@ -277,6 +277,7 @@ public:
       const std::vector<double> st = P_[k].vertex_stretch();
       std::vector<double> sorted = st;
       std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+      if (sorted.empty() || !(sorted[sorted.size() / 2] > 0)) return {};
       const double member = 100 * sorted[sorted.size() / 2];
       cluster_of[k].assign(m.number_of_vertices(), -1);
       for (WV v : m.vertices()) {
