@@ -274,11 +274,9 @@ public:
     std::array<std::vector<int>, 2> cluster_of;
     for (int k = 0; k < 2; ++k) {
       const internal::Work_mesh& m = B_.side[k].m;
-      const std::vector<double> st = P_[k].vertex_stretch();
-      std::vector<double> sorted = st;
-      std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-      if (sorted.empty() || !(sorted[sorted.size() / 2] > 0)) return {};
-      const double member = 100 * sorted[sorted.size() / 2];
+      const std::vector<double> st = relative_stretch(P_[k]);
+      if (st.empty()) return {};
+      const double member = 100; // stretch of a cluster's vertices, over the median
       cluster_of[k].assign(m.number_of_vertices(), -1);
       for (WV v : m.vertices()) {
         if (cluster_of[k][v] >= 0 || !(st[v] >= member)) continue;
@@ -295,7 +293,6 @@ public:
             }
         }
         c.size = queue.size();
-        c.squeeze /= member / 100;
         clusters[k].push_back(c);
       }
     }
@@ -390,13 +387,22 @@ public:
   }
 
 private:
+  /// Each vertex's stretch in a parameterization over the median one; empty if the median is not positive.
+  static std::vector<double> relative_stretch(const internal::Base_parameterization& P) {
+    std::vector<double> s = P.vertex_stretch(), sorted = s;
+    if (s.empty()) return s;
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    const double median = sorted[sorted.size() / 2];
+    if (!(median > 0)) return {};
+    for (double& x : s) x /= median;
+    return s;
+  }
+
   /// The largest vertex stretch of a parameterization over its median.
   static double squeeze(const internal::Base_parameterization& P) {
-    std::vector<double> s = P.vertex_stretch();
-    if (s.empty()) return 1;
-    const double mx = *std::max_element(s.begin(), s.end());
-    std::nth_element(s.begin(), s.begin() + s.size() / 2, s.end());
-    return s[s.size() / 2] > 0 ? mx / s[s.size() / 2] : HUGE_VAL;
+    if (P.mesh->m.number_of_vertices() == 0) return 1;
+    const std::vector<double> s = relative_stretch(P);
+    return s.empty() ? HUGE_VAL : *std::max_element(s.begin(), s.end());
   }
 
   /// Shape of the base domain: each base edge as long as its two paths, averaged over both meshes after

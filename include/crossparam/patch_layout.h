@@ -47,47 +47,53 @@ struct Patch_layout {
 
 namespace internal {
 
-/// The triangles of a mesh as a soup: points in vertices(tm) order (as doubles), faces in faces(tm) order.
+/// A Surface_mesh copy of a validated triangle mesh, built as a soup so that vertex k of the copy is the k-th
+/// vertex of vertices(tm) and face f the f-th of faces(tm), with its corners in vertices_around_face order
+/// (the file order for meshes we read). Both orders are checked. Returns the soup (the points as given).
+struct Triangle_soup {
+  std::vector<Point_3> points;
+  std::vector<std::array<std::size_t, 3>> tris;
+};
 template <class TriangleMesh, class VertexPointMap>
-void triangle_soup(const TriangleMesh& tm, VertexPointMap vpm, std::vector<Point_3>& points,
-                   std::vector<std::array<std::size_t, 3>>& tris) {
+Triangle_soup copy_in_order(const TriangleMesh& tm, VertexPointMap vpm, Surface_mesh& out) {
   using vertex_descriptor = typename boost::graph_traits<TriangleMesh>::vertex_descriptor;
   std::vector<vertex_descriptor> order(vertices(tm).begin(), vertices(tm).end());
   std::map<vertex_descriptor, std::size_t> index;
+  Triangle_soup soup;
+  std::vector<Point_3>& points = soup.points;
+  std::vector<std::array<std::size_t, 3>>& tris = soup.tris;
   for (std::size_t i = 0; i < order.size(); ++i) {
     index[order[i]] = i;
     const auto& p = get(vpm, order[i]);
     points.emplace_back(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
   }
-  for (auto f : faces(tm)) { // corners in vertices_around_face order: the file order for meshes we read
+  for (auto f : faces(tm)) {
     auto h = halfedge(f, tm);
     tris.push_back({index[target(h, tm)], index[target(next(h, tm), tm)], index[source(h, tm)]});
   }
-}
-
-/// A Surface_mesh copy of a validated triangle mesh with the same vertex and face order.
-template <class TriangleMesh, class VertexPointMap>
-void copy_in_order(const TriangleMesh& tm, VertexPointMap vpm, Surface_mesh& out) {
-  std::vector<Point_3> points;
-  std::vector<std::array<std::size_t, 3>> tris;
-  triangle_soup(tm, vpm, points, tris);
   CGAL::Polygon_mesh_processing::polygon_soup_to_polygon_mesh(points, tris, out);
+  if (out.number_of_vertices() != points.size() || out.number_of_faces() != tris.size())
+    throw Algorithm_error("internal error: mesh copy changed the element counts");
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (out.point(WV(WV::size_type(i))) != points[i])
+      throw Algorithm_error("internal error: mesh copy did not keep the vertex order");
+  for (std::size_t f = 0; f < tris.size(); ++f) {
+    std::array<std::size_t, 3> got;
+    int i = 0;
+    for (WV v : CGAL::vertices_around_face(out.halfedge(WF(WF::size_type(f))), out)) got[i++] = std::size_t(v);
+    std::array<std::size_t, 3> a = got, b = tris[f];
+    std::sort(a.begin(), a.end());
+    std::sort(b.begin(), b.end());
+    if (a != b) throw Algorithm_error("internal error: mesh copy did not keep the face order");
+  }
+  return soup;
 }
 
 /// Copies a user's mesh into a working Surface_mesh with coordinates scaled into a unit box (predicates
 /// stay safe at any input scale), oriented outward. Vertex k of the copy is the k-th vertex of vertices(tm).
 template <class TriangleMesh, class VertexPointMap>
 void make_work_mesh(const TriangleMesh& tm, VertexPointMap vpm, Layout_mesh& out) {
-  // Copy as a soup in vertices(tm) / faces(tm) order; the soup builder handles any face order.
-  std::vector<Point_3> points;
-  std::vector<std::array<std::size_t, 3>> tris;
-  triangle_soup(tm, vpm, points, tris);
-  CGAL::Polygon_mesh_processing::polygon_soup_to_polygon_mesh(points, tris, out.m);
-  if (out.m.number_of_vertices() != points.size() || out.m.number_of_faces() != tris.size())
-    throw Algorithm_error("internal error: mesh copy changed the element counts");
-  for (std::size_t i = 0; i < points.size(); ++i)
-    if (out.m.point(WV(WV::size_type(i))) != points[i])
-      throw Algorithm_error("internal error: mesh copy did not keep the vertex order");
+  const Triangle_soup soup = copy_in_order(tm, vpm, out.m);
   double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
   for (WV v : out.m.vertices())
     for (int i = 0; i < 3; ++i) {
@@ -114,18 +120,9 @@ void make_work_mesh(const TriangleMesh& tm, VertexPointMap vpm, Layout_mesh& out
   }
   out.reversed = vol < 0;
   if (vol < 0) CGAL::Polygon_mesh_processing::reverse_face_orientations(out.m);
-  for (std::size_t f = 0; f < tris.size(); ++f) { // the soup builder keeps the face order: check it
-    std::array<std::size_t, 3> got;
-    int i = 0;
-    for (WV v : CGAL::vertices_around_face(out.m.halfedge(WF(WF::size_type(f))), out.m)) got[i++] = std::size_t(v);
-    std::array<std::size_t, 3> a = got, b = tris[f];
-    std::sort(a.begin(), a.end());
-    std::sort(b.begin(), b.end());
-    if (a != b) throw Algorithm_error("internal error: mesh copy did not keep the face order");
-  }
-  out.init(tris);
+  out.init(soup.tris);
   out.input_points.clear();
-  for (const Point_3& p : points) out.input_points.push_back({p.x(), p.y(), p.z()});
+  for (const Point_3& p : soup.points) out.input_points.push_back({p.x(), p.y(), p.z()});
 }
 
 template <class TriangleMesh>
