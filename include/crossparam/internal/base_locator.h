@@ -98,10 +98,20 @@ public:
     double best_min = -HUGE_VAL;
     for (std::size_t id : cell) {
       const Item& it = items_[id];
-      CGAL::Orientation o0 = CGAL::orientation(it.p[1], it.p[2], q), o1 = CGAL::orientation(it.p[2], it.p[0], q),
-                        o2 = CGAL::orientation(it.p[0], it.p[1], q);
       std::array<double, 3> b = barycentric(it.p, q);
       double mn = std::min({b[0], b[1], b[2]});
+      // Certainly outside (a side's orientation is negative beyond any rounding of the floating-point
+      // determinant): the exact test would only confirm it.
+      if (certainly_outside(it.p, q)) {
+        if (mn > best_min) {
+          best_min = mn;
+          best = {it.f, b};
+          Base_mesh::normalise(best.b);
+        }
+        continue;
+      }
+      CGAL::Orientation o0 = CGAL::orientation(it.p[1], it.p[2], q), o1 = CGAL::orientation(it.p[2], it.p[0], q),
+                        o2 = CGAL::orientation(it.p[0], it.p[1], q);
       bool inside = o0 != CGAL::NEGATIVE && o1 != CGAL::NEGATIVE && o2 != CGAL::NEGATIVE;
       if (inside) {
         if (o0 == CGAL::ZERO) b[0] = 0;
@@ -137,6 +147,16 @@ private:
     WF f;
     std::array<Point_2, 3> p;
   };
+  /// Whether q is on the negative side of an edge of triangle p by more than the rounding error of the
+  /// orientation determinant in doubles (a static filter, bound far above Shewchuk's 3.4e-16 relative).
+  static bool certainly_outside(const std::array<Point_2, 3>& p, const Point_2& q) {
+    for (int i = 0; i < 3; ++i) {
+      const Point_2 &a = p[(i + 1) % 3], &b = p[(i + 2) % 3];
+      const double l = (b.x() - a.x()) * (q.y() - a.y()), r = (b.y() - a.y()) * (q.x() - a.x());
+      if (l - r < -1e-12 * (std::abs(l) + std::abs(r))) return true;
+    }
+    return false;
+  }
   static std::array<double, 3> barycentric(const std::array<Point_2, 3>& p, const Point_2& q) {
     double det = (p[1].x() - p[0].x()) * (p[2].y() - p[0].y()) - (p[2].x() - p[0].x()) * (p[1].y() - p[0].y());
     if (det == 0) return {1.0 / 3, 1.0 / 3, 1.0 / 3};
