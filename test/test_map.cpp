@@ -3,6 +3,7 @@
 // trips, generic mesh types; accuracy against ground truth on the ../shared/bench cases.
 #include <crossparam/cross_parameterization.h>
 #include <crossparam/io.h>
+#include <crossparam/remeshing_verification.h>
 #include <crossparam/shapes.h>
 
 #include <CGAL/Polygon_mesh_processing/locate.h>
@@ -189,12 +190,8 @@ TEST(Map, ProtrusionFeatures) {
   EXPECT_GT(cp.statistics().seconds_probe, 0.0);
   const Feature_pair added = cp.features().back();
   auto point = [](const Surface_mesh& m, std::size_t v) { return m.point(Surface_mesh::Vertex_index(Surface_mesh::size_type(v))); };
-  auto diagonal = [](const Surface_mesh& m) {
-    CGAL::Bbox_3 bb = PMP::bbox(m);
-    return std::sqrt(CGAL::square(bb.xmax() - bb.xmin()) + CGAL::square(bb.ymax() - bb.ymin()) + CGAL::square(bb.zmax() - bb.zmin()));
-  };
-  const double ds = std::sqrt(CGAL::squared_distance(point(a0, added.source), point(a0, tail.source))) / diagonal(a0);
-  const double dt = std::sqrt(CGAL::squared_distance(point(b0, added.target), point(b0, tail.target))) / diagonal(b0);
+  const double ds = std::sqrt(CGAL::squared_distance(point(a0, added.source), point(a0, tail.source))) / internal::bbox_diagonal(a0);
+  const double dt = std::sqrt(CGAL::squared_distance(point(b0, added.target), point(b0, tail.target))) / internal::bbox_diagonal(b0);
   std::cout << "[ protrusion ] squeeze " << squeeze_plain << " -> "
             << std::max(cp.statistics().squeeze_source, cp.statistics().squeeze_target) << ", added pair "
             << added.source << " " << added.target << " at " << 100 * ds << "% / " << 100 * dt

@@ -318,8 +318,7 @@ public:
       WV arg(0);
       for (std::size_t i = 0; i < B.n_original_vertices; ++i) {
         const WV u{WV::size_type(i)};
-        double d = 0;
-        for (std::size_t j = 0; j < A.desc[v].size(); ++j) d += CGAL::square(double(A.desc[v][j]) - double(B.desc[u][j]));
+        const double d = descriptor_distance(A.desc[v], B.desc[u]);
         if (d < best) {
           best = d;
           arg = u;
