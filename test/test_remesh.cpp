@@ -152,10 +152,13 @@ TEST_P(BenchRemesh, CompatibleAndClose) {
   EXPECT_LE(o.check.hausdorff_source, 1e-6);
   EXPECT_LT(o.stats.l2_error, 0.4);
   EXPECT_LT(o.stats.l2_error, o.stats.l2_error_initial);
-  // Today's figures (manual §10.5) with a margin: Hausdorff 0.38-1.21 %, flipped faces 1-7 except
-  // yang_cat_horse (61, up from 2 before the protrusion features, which brought its Hausdorff from 0.92 %).
+  // Today's figures (manual §10.5) with a margin: Hausdorff 0.38-1.15 %; flipped faces 0 on four cases,
+  // 2 on shrec_381_382 and 7 on yang_cat_horse after the fold repair (4-7 and 61 before it).
   EXPECT_LT(o.check.hausdorff_target, 1.3);
-  EXPECT_LE(o.check.flipped_faces, GetParam() == "yang_cat_horse" ? 70u : 10u);
+  EXPECT_LE(o.check.flipped_faces, GetParam() == "yang_cat_horse" ? 10u : GetParam() == "shrec_381_382" ? 3u : 0u);
+  if (GetParam() == "shrec_383_385") {
+    EXPECT_TRUE(o.check.valid) << o.check.message; // every criterion of the tolerance met
+  }
   EXPECT_LT(double(o.stats.output_vertices), 2.0 * double(o.stats.source_vertices));
 }
 

@@ -495,6 +495,8 @@ void write_remesh(const Options& o, const Map& cp, const Remesher& r, double rea
     os << "  \"output_vertices\": " << S.output_vertices << ",\n  \"output_faces\": " << S.output_faces << ",\n";
     os << "  \"added_vertices_percent\": " << json_number(added) << ",\n";
     os << "  \"refinement_splits\": " << S.refinement_splits << ",\n  \"pseudo_flips\": " << S.pseudo_flips << ",\n  \"unfold_moves\": " << S.unfold_moves << ",\n";
+    os << "  \"fold_repair\": {\"splits\": " << S.fold_repair_splits << ", \"kept\": " << S.fold_repairs_kept
+       << ", \"undone\": " << S.fold_repairs_undone << "},\n";
     os << "  \"tolerance_percent\": " << json_number(S.tolerance) << ",\n";
     os << "  \"error_initial\": {\"max_percent\": " << json_number(S.max_error_initial)
        << ", \"l2_percent\": " << json_number(S.l2_error_initial) << "},\n";
@@ -510,6 +512,7 @@ void write_remesh(const Options& o, const Map& cp, const Remesher& r, double rea
        << ", \"smoothing\": " << json_number(C.seconds_smoothing) << ", \"map_total\": " << json_number(C.seconds_total)
        << ", \"adaptive_smoothing\": " << json_number(S.seconds_smoothing)
        << ", \"refinement\": " << json_number(S.seconds_refinement) << ", \"pseudo_flips\": " << json_number(S.seconds_flips)
+       << ", \"fold_repair\": " << json_number(S.seconds_fold_repair)
        << ", \"certificate\": " << json_number(S.seconds_certificate) << ", \"remesh_total\": " << json_number(S.seconds_total)
        << "}\n}\n";
   });

@@ -75,6 +75,8 @@ struct Remeshing_statistics {
   std::size_t refinement_splits = 0; ///< §5.3
   std::size_t pseudo_flips = 0;      ///< §5.4
   std::size_t unfold_moves = 0;      ///< vertex moves that removed folds of the target-shaped mesh
+  std::size_t fold_repair_splits = 0; ///< splits kept by the fold repair (after §5.4)
+  std::size_t fold_repairs_kept = 0, fold_repairs_undone = 0; ///< fold-repair attempts kept and undone
   unsigned smoothing_rounds = 0, refinement_rounds = 0;
   double tolerance = 0;              ///< ε, percent
   double max_error_initial = 0, l2_error_initial = 0; ///< e(v) of M_st right after the projection
@@ -85,7 +87,7 @@ struct Remeshing_statistics {
   std::size_t flipped_faces = 0;     ///< output faces whose normal opposes the target's where they land
   bool converged = false;            ///< max error and max chord error <= tolerance, and no flipped face
   double seconds_cross_parameterization = 0, seconds_smoothing = 0, seconds_refinement = 0, seconds_flips = 0,
-         seconds_certificate = 0, seconds_total = 0;
+         seconds_fold_repair = 0, seconds_certificate = 0, seconds_total = 0;
 };
 
 /// \brief Compatible remeshing (paper §5) of the two meshes of a cross-parameterization.
@@ -205,6 +207,17 @@ public:
     }
     stats_.seconds_flips = sec(tf, clock::now());
 
+    // Folds left: refine them away in the target's metric (an addition to the paper).
+    const auto tfr = clock::now();
+    if (flipped_ > 0) {
+      repair_folds();
+      measure();
+      say("remesh: fold repair: " + std::to_string(stats_.fold_repair_splits) + " splits (" +
+          std::to_string(stats_.fold_repairs_kept) + " repairs kept, " + std::to_string(stats_.fold_repairs_undone) +
+          " undone), " + std::to_string(flipped_) + " flipped faces");
+    }
+    stats_.seconds_fold_repair = sec(tfr, clock::now());
+
     // The parameterization of the remeshed source must still be one-to-one.
     const auto tc = clock::now();
     cert_ = P_.certify();
@@ -275,11 +288,40 @@ private:
     return internal::triangle_normal(m.point(m.source(h)), m.point(m.target(h)), m.point(m.target(m.next(h))));
   }
   /// Whether triangle (a, b, c) of M_st, its corners on target faces fa, fb, fc, is flipped: its normal opposes
-  /// the target's at every corner (a face across a sharp crease agrees with one side of it: a chord).
+  /// the target's at every corner (a face across a sharp crease agrees with one side of it: a chord). During
+  /// the fold repair (`repairing_`), a corner on an edge or at a vertex of the target counts as opposing if any
+  /// target face through it does, as an independent check with closest points may pick any of them.
   bool flipped(const Point_3& a, internal::WF fa, const Point_3& b, internal::WF fb, const Point_3& c,
                internal::WF fc) const {
     const Kernel::Vector_3 n = internal::triangle_normal(a, b, c);
+    if (repairing_) return opposes(n, a, fa) && opposes(n, b, fb) && opposes(n, c, fc);
     return n * target_normal(fa) < 0 && n * target_normal(fb) < 0 && n * target_normal(fc) < 0;
+  }
+  /// Whether normal n opposes the target's normal at point p of target face f, or at another target face
+  /// that p lies on (p at a corner or on an edge of f, to within 1e-9 of the unit diagonal).
+  bool opposes(const Kernel::Vector_3& n, const Point_3& p, internal::WF f) const {
+    if (n * target_normal(f) < 0) return true;
+    const auto& m = T_.m;
+    constexpr double tol2 = 1e-18;
+    for (internal::WH h : CGAL::halfedges_around_face(m.halfedge(f), m)) {
+      const Point_3& q = m.point(m.target(h));
+      if (CGAL::squared_distance(p, q) < tol2) {
+        for (internal::WF g : CGAL::faces_around_target(h, m))
+          if (g != internal::WF() && n * target_normal(g) < 0) return true;
+        continue;
+      }
+      const internal::WH o = m.opposite(h);
+      if (!m.is_border(o) && n * target_normal(m.face(o)) < 0 &&
+          CGAL::squared_distance(p, Kernel::Segment_3(m.point(m.source(h)), q)) < tol2)
+        return true;
+    }
+    return false;
+  }
+  bool face_folded(internal::WF f) const {
+    const auto& m = S_.m;
+    const internal::WH h = m.halfedge(f);
+    const internal::WV x = m.source(h), y = m.target(h), z = m.target(m.next(h));
+    return flipped(pos_[x], img_[x].face, pos_[y], img_[y].face, pos_[z], img_[z].face);
   }
   double target_field(const std::vector<double>& f, const internal::Work_location& l) const {
     const auto& m = T_.m;
@@ -369,7 +411,8 @@ private:
   }
   using Face_plan = std::array<const Corner*, 3>;
   /// Whether replacing faces `before` by `after` keeps the parameterization one-to-one (every new face
-  /// positively oriented over the base mesh, exact test) and folds no more faces of M_st against the target.
+  /// positively oriented over the base mesh, exact test) and folds no more faces of M_st against the target
+  /// (at most `fold_slack_` more, during the fold repair). Leaves the change in folded faces in `fold_change_`.
   template <std::size_t N, std::size_t M>
   bool acceptable(const std::array<Face_plan, N>& before, const std::array<Face_plan, M>& after) const {
     const internal::Base_mesh& B = *P_.base;
@@ -381,7 +424,8 @@ private:
     int nb = 0, na = 0;
     for (const Face_plan& f : before) nb += folds(f);
     for (const Face_plan& f : after) na += folds(f);
-    return na <= nb;
+    fold_change_ = na - nb;
+    return na <= nb + fold_slack_;
   }
   /// Adds the new vertex of a split (the mesh already split) with its planned corner.
   void commit(internal::WV nw, const Corner& c) {
@@ -411,7 +455,9 @@ private:
                     std::array<Face_plan, 4>{{{&cu, &cw, &cx}, {&cw, &cv, &cx}, {&cv, &cw, &cy}, {&cw, &cu, &cy}}}))
       return false;
     touch(u, v);
-    commit(S_.split_edge(u, v, t), cw);
+    const internal::WV w = S_.split_edge(u, v, t);
+    commit(w, cw);
+    if (repairing_) fold_total_ += fold_change_, made_.push_back(w);
     return true;
   }
 
@@ -593,6 +639,142 @@ private:
     return moves;
   }
 
+  /// Fold repair, step of one folded face f: walks f's longest-edge propagation path (Rivara), with edge lengths
+  /// measured on the target-shaped mesh, to its terminal edge and splits that (near its midpoint; other points
+  /// on the edge where the midpoint is refused). With `any_edge`, if that split is refused, f's own edges are
+  /// tried, longest first. Returns whether it split.
+  bool repair_step(internal::WF f, bool any_edge) {
+    const auto& m = S_.m;
+    auto split_near_middle = [&](internal::WH h) {
+      for (double t : {0.5, 0.375, 0.625, 0.25, 0.75, 0.125, 0.875})
+        if (split(m.source(h), m.target(h), t)) return true;
+      return false;
+    };
+    internal::WF t = f;
+    for (int depth = 0; depth < 40; ++depth) {
+      const internal::WH h = longest_edge(t), o = m.opposite(h);
+      if (m.is_border(o) || m.edge(longest_edge(m.face(o))) == m.edge(h)) {
+        if (split_near_middle(h)) return true;
+        break;
+      }
+      t = m.face(o);
+    }
+    if (!any_edge) return false;
+    std::vector<std::pair<double, internal::WH>> es;
+    for (internal::WH g : CGAL::halfedges_around_face(m.halfedge(f), m))
+      es.push_back({-CGAL::squared_distance(pos_[m.source(g)], pos_[m.target(g)]), g});
+    std::sort(es.begin(), es.end());
+    for (const auto& e : es)
+      if (split_near_middle(e.second)) return true;
+    return false;
+  }
+
+  /// Moves each of the vertices `vs` (made by the current repair) along one of its edges in the base domain,
+  /// as unfold() does, where that folds fewer faces around it. Returns the change in folded faces.
+  int unfold_vertices(const std::vector<internal::WV>& vs) {
+    const auto& m = S_.m;
+    int change = 0;
+    for (internal::WV v : vs) {
+      const Corner now = corner(v);
+      const int folds_now = folds_around(v, now);
+      if (folds_now == 0) continue;
+      int best = folds_now;
+      Corner chosen = now;
+      for (internal::WV w : CGAL::vertices_around_target(m.halfedge(v), m))
+        for (double t : {0.25, 0.5, 0.75}) {
+          const Corner c = corner_at(P_.between(v, w, t));
+          const int k = folds_around(v, c);
+          if (k >= best) continue;
+          P_[v] = c.loc;
+          const bool valid = P_.star_positive(v);
+          P_[v] = now.loc;
+          if (valid) best = k, chosen = c;
+        }
+      if (best == folds_now) continue;
+      P_[v] = chosen.loc;
+      img_[v] = chosen.img;
+      pos_[v] = chosen.pos;
+      change += best - folds_now;
+    }
+    return change;
+  }
+
+  /// Fold repair (an addition to the paper). A face of M_st folds where F is so anisotropic that the face,
+  /// well shaped on the source, is a needle on the target across a bend of the target's parameterization.
+  /// Refining it towards well-shaped triangles *in the target's metric* removes the fold: each folded face gets
+  /// longest-edge (LEPP) bisections with target-shaped lengths, each split allowed to fold one more face than
+  /// it unfolds (two in the second mode), the split vertices moved as in unfold(), over up to 30 rounds on
+  /// the faces the repair made or changed, at most 200 splits. A repair is kept only if it leaves fewer folded
+  /// faces than before; otherwise the mesh and the maps are restored. Splits lie on source edges as
+  /// everywhere else (the source geometry is kept) and are made only if every new face is positively
+  /// oriented over the base mesh (exact test). The folds are counted with the strict test of flipped() (`repairing_`).
+  /// Passes alternate two modes (slack 1, LEPP only; slack 2, the face's own edges too) until a pass of each
+  /// mode in a row keeps nothing, at most six passes.
+  void repair_folds() {
+    auto& m = S_.m;
+    const std::size_t v0 = m.number_of_vertices();
+    repairing_ = true;
+    constexpr int rounds = 30, budget = 200, max_passes = 6;
+    int idle = 0;
+    for (int pass = 0; pass < max_passes && idle < 2; ++pass) {
+      const bool second_mode = pass % 2 == 1;
+      fold_slack_ = second_mode ? 2 : 1;
+      std::vector<internal::WF> folded;
+      for (internal::WF f : m.faces())
+        if (face_folded(f)) folded.push_back(f);
+      if (folded.empty()) break;
+      std::size_t kept = 0;
+      for (internal::WF f0 : folded) {
+        if (!face_folded(f0)) continue; // repaired with an earlier face
+        // A repair appends vertices (with their records), changes faces of m and moves only vertices it made:
+        // undoing it restores m and truncates the rest.
+        const internal::Work_mesh keep_m = m;
+        const std::size_t keep_nv = m.number_of_vertices(), keep_splits = S_.splits.size();
+        dirty_.assign(m.number_of_faces(), 0);
+        fold_total_ = 0;
+        made_.clear();
+        std::vector<internal::WF> region{f0};
+        for (int r = 0; r < rounds; ++r) {
+          std::vector<internal::WF> todo;
+          for (internal::WF g : region)
+            if (face_folded(g)) todo.push_back(g);
+          if (todo.empty()) break;
+          const std::size_t made_before = made_.size();
+          for (internal::WF g : todo)
+            for (int k = 0; k < 4 && made_.size() < std::size_t(budget) && face_folded(g); ++k)
+              if (!repair_step(g, second_mode)) break;
+          if (made_.size() == made_before || made_.size() >= std::size_t(budget)) break;
+          fold_total_ += unfold_vertices(made_);
+          // Every face a split changed is around a vertex the repair made.
+          region.assign(1, f0);
+          for (internal::WV x : made_)
+            for (internal::WF g : CGAL::faces_around_target(m.halfedge(x), m)) region.push_back(g);
+          std::sort(region.begin(), region.end());
+          region.erase(std::unique(region.begin(), region.end()), region.end());
+        }
+        if (fold_total_ < 0) {
+          ++kept;
+          continue;
+        }
+        ++stats_.fold_repairs_undone;
+        m = keep_m;
+        S_.bind_property_maps();
+        S_.vrep.resize(std::min(S_.vrep.size(), keep_nv));
+        if (S_.desc.size() > keep_nv) S_.desc.resize(keep_nv);
+        S_.splits.resize(keep_splits);
+        P_.loc.resize(keep_nv);
+        img_.resize(keep_nv);
+        pos_.resize(keep_nv);
+      }
+      stats_.fold_repairs_kept += kept;
+      idle = kept == 0 ? idle + 1 : 0;
+    }
+    repairing_ = false;
+    fold_slack_ = 0;
+    made_.clear();
+    stats_.fold_repair_splits = m.number_of_vertices() - v0;
+  }
+
   /// §5.4: an edge (u, v) with opposite corners x, y whose faces deviate from the target's normal by more
   /// than the threshold, and whose flip (x, y) would deviate less, is split where the diagonals (u, v) and
   /// (x, y) cross in the base domain: the new vertex's image is the point of the target between x and y, which
@@ -695,6 +877,14 @@ private:
   std::size_t flipped_ = 0;
   double max_e_ = 0, l2_e_ = 0, max_chord_ = 0, eps_ = 0;
   std::function<void(const std::string&)> progress_;
+  // State of the fold repair: whether it runs (the strict fold test, splits recorded), the folds a split may
+  // add, the change in folded faces of the last acceptable() test and of the current repair, and the vertices
+  // the current repair made.
+  bool repairing_ = false;
+  int fold_slack_ = 0;
+  mutable int fold_change_ = 0;
+  int fold_total_ = 0;
+  std::vector<internal::WV> made_;
   std::vector<std::array<std::size_t, 3>> faces_;
   std::vector<std::array<double, 3>> src_pts_, tgt_pts_;
   std::vector<Input_location> tgt_loc_;
