@@ -595,6 +595,34 @@ private:
     return n;
   }
 
+  /// Moves vertex v in the base domain along one of its edges (a quarter, half or three quarters of the way)
+  /// to where the fewest faces around it fold, if fewer than now and its faces stay positively oriented over
+  /// the base mesh (exact test). The source vertex stays where it is: only its image on the target moves.
+  /// Returns the change in folded faces around v (0 if it did not move).
+  int unfold_vertex(internal::WV v) {
+    const auto& m = S_.m;
+    const Corner now = corner(v);
+    const int folds_now = folds_around(v, now);
+    if (folds_now == 0) return 0;
+    int best = folds_now;
+    Corner chosen = now;
+    for (internal::WV w : CGAL::vertices_around_target(m.halfedge(v), m))
+      for (double t : {0.25, 0.5, 0.75}) {
+        const Corner c = corner_at(P_.between(v, w, t));
+        const int k = folds_around(v, c);
+        if (k >= best) continue;
+        P_[v] = c.loc;
+        const bool valid = P_.star_positive(v);
+        P_[v] = now.loc;
+        if (valid) best = k, chosen = c;
+      }
+    if (best == folds_now) return 0;
+    P_[v] = chosen.loc;
+    img_[v] = chosen.img;
+    pos_[v] = chosen.pos;
+    return best - folds_now;
+  }
+
   /// Removes folds of M_st by moving vertices: a corner of a folded face is moved in the base domain along
   /// one of its edges (a quarter, half or three quarters of the way) if that folds fewer faces around it and
   /// keeps its faces positively oriented over the base mesh (exact test, as the smoothing). The source geometry
@@ -604,36 +632,15 @@ private:
     std::size_t moves = 0;
     for (int pass = 0; pass < 4; ++pass) {
       std::vector<internal::WV> todo;
-      for (internal::WF f : m.faces()) {
-        internal::WH h = m.halfedge(f);
-        internal::WV x = m.source(h), y = m.target(h), z = m.target(m.next(h));
-        if (flipped(pos_[x], img_[x].face, pos_[y], img_[y].face, pos_[z], img_[z].face))
-          for (internal::WV v : {x, y, z}) todo.push_back(v);
-      }
+      for (internal::WF f : m.faces())
+        if (face_folded(f)) {
+          const internal::WH h = m.halfedge(f);
+          for (internal::WV v : {m.source(h), m.target(h), m.target(m.next(h))}) todo.push_back(v);
+        }
       if (todo.empty()) break;
       std::size_t before_moves = moves;
-      for (internal::WV v : todo) {
-        if (S_.vfeature[v] != internal::no_feature) continue;
-        const Corner now = corner(v);
-        int best = folds_around(v, now);
-        if (best == 0) continue;
-        Corner chosen = now;
-        for (internal::WV w : CGAL::vertices_around_target(m.halfedge(v), m))
-          for (double t : {0.25, 0.5, 0.75}) {
-            const Corner c = corner_at(P_.between(v, w, t));
-            const int k = folds_around(v, c);
-            if (k >= best) continue;
-            P_[v] = c.loc;
-            const bool valid = P_.star_positive(v);
-            P_[v] = now.loc;
-            if (valid) best = k, chosen = c;
-          }
-        if (chosen.loc.tri == now.loc.tri && chosen.loc.b == now.loc.b) continue;
-        P_[v] = chosen.loc;
-        img_[v] = chosen.img;
-        pos_[v] = chosen.pos;
-        ++moves;
-      }
+      for (internal::WV v : todo)
+        if (S_.vfeature[v] == internal::no_feature && unfold_vertex(v) < 0) ++moves;
       if (moves == before_moves) break;
     }
     return moves;
@@ -669,33 +676,11 @@ private:
     return false;
   }
 
-  /// Moves each of the vertices `vs` (made by the current repair) along one of its edges in the base domain,
-  /// as unfold() does, where that folds fewer faces around it. Returns the change in folded faces.
+  /// unfold_vertex() for each of `vs` (the vertices the current repair made). Returns the change in folded
+  /// faces.
   int unfold_vertices(const std::vector<internal::WV>& vs) {
-    const auto& m = S_.m;
     int change = 0;
-    for (internal::WV v : vs) {
-      const Corner now = corner(v);
-      const int folds_now = folds_around(v, now);
-      if (folds_now == 0) continue;
-      int best = folds_now;
-      Corner chosen = now;
-      for (internal::WV w : CGAL::vertices_around_target(m.halfedge(v), m))
-        for (double t : {0.25, 0.5, 0.75}) {
-          const Corner c = corner_at(P_.between(v, w, t));
-          const int k = folds_around(v, c);
-          if (k >= best) continue;
-          P_[v] = c.loc;
-          const bool valid = P_.star_positive(v);
-          P_[v] = now.loc;
-          if (valid) best = k, chosen = c;
-        }
-      if (best == folds_now) continue;
-      P_[v] = chosen.loc;
-      img_[v] = chosen.img;
-      pos_[v] = chosen.pos;
-      change += best - folds_now;
-    }
+    for (internal::WV v : vs) change += unfold_vertex(v);
     return change;
   }
 
