@@ -100,25 +100,18 @@ public:
       const Item& it = items_[id];
       std::array<double, 3> b = barycentric(it.p, q);
       double mn = std::min({b[0], b[1], b[2]});
-      // Certainly outside (a side's orientation is negative beyond any rounding of the floating-point
-      // determinant): the exact test would only confirm it.
-      if (certainly_outside(it.p, q)) {
-        if (mn > best_min) {
-          best_min = mn;
-          best = {it.f, b};
-          Base_mesh::normalise(best.b);
+      // The exact test only where q is not certainly outside (a side's orientation negative beyond any
+      // rounding of the floating-point determinant), where it would only confirm it.
+      if (!certainly_outside(it.p, q)) {
+        CGAL::Orientation o0 = CGAL::orientation(it.p[1], it.p[2], q), o1 = CGAL::orientation(it.p[2], it.p[0], q),
+                          o2 = CGAL::orientation(it.p[0], it.p[1], q);
+        if (o0 != CGAL::NEGATIVE && o1 != CGAL::NEGATIVE && o2 != CGAL::NEGATIVE) {
+          if (o0 == CGAL::ZERO) b[0] = 0;
+          if (o1 == CGAL::ZERO) b[1] = 0;
+          if (o2 == CGAL::ZERO) b[2] = 0;
+          Base_mesh::normalise(b);
+          return {it.f, b};
         }
-        continue;
-      }
-      CGAL::Orientation o0 = CGAL::orientation(it.p[1], it.p[2], q), o1 = CGAL::orientation(it.p[2], it.p[0], q),
-                        o2 = CGAL::orientation(it.p[0], it.p[1], q);
-      bool inside = o0 != CGAL::NEGATIVE && o1 != CGAL::NEGATIVE && o2 != CGAL::NEGATIVE;
-      if (inside) {
-        if (o0 == CGAL::ZERO) b[0] = 0;
-        if (o1 == CGAL::ZERO) b[1] = 0;
-        if (o2 == CGAL::ZERO) b[2] = 0;
-        Base_mesh::normalise(b);
-        return {it.f, b};
       }
       if (mn > best_min) {
         best_min = mn;
