@@ -495,6 +495,8 @@ void write_remesh(const Options& o, const Map& cp, const Remesher& r, double rea
     os << "  \"output_vertices\": " << S.output_vertices << ",\n  \"output_faces\": " << S.output_faces << ",\n";
     os << "  \"added_vertices_percent\": " << json_number(added) << ",\n";
     os << "  \"refinement_splits\": " << S.refinement_splits << ",\n  \"pseudo_flips\": " << S.pseudo_flips << ",\n  \"unfold_moves\": " << S.unfold_moves << ",\n";
+    os << "  \"refinement_repairs\": {\"kept\": " << S.refinement_repairs_kept << ", \"undone\": " << S.refinement_repairs_undone
+       << "},\n";
     os << "  \"fold_repair\": {\"splits\": " << S.fold_repair_splits << ", \"kept\": " << S.fold_repairs_kept
        << ", \"undone\": " << S.fold_repairs_undone << "},\n";
     os << "  \"tolerance_percent\": " << json_number(S.tolerance) << ",\n";

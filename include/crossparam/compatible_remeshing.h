@@ -75,6 +75,8 @@ struct Remeshing_statistics {
   std::size_t refinement_splits = 0; ///< §5.3
   std::size_t pseudo_flips = 0;      ///< §5.4
   std::size_t unfold_moves = 0;      ///< vertex moves that removed folds of the target-shaped mesh
+  std::size_t refinement_repairs_kept = 0, refinement_repairs_undone = 0; ///< refused chord splits made with a
+                                     ///< local fold repair (§5.3), kept and undone
   std::size_t fold_repair_splits = 0; ///< splits kept by the fold repair (after §5.4)
   std::size_t fold_repairs_kept = 0, fold_repairs_undone = 0; ///< fold-repair attempts kept and undone
   unsigned smoothing_rounds = 0, refinement_rounds = 0;
@@ -509,16 +511,19 @@ private:
   }
 
   /// §5.3, refinement of the source and M_st together, in two steps:
-  ///  1. every target vertex whose error e(v) exceeds the rule's threshold (of the largest e(v)), largest
-  ///     first, has its preimage F^-1(v) inserted into the source face holding it: v becomes a vertex of M_st
-  ///     and its error drops to zero. Once per face and round (the located preimages of a changed face are
-  ///     stale), and not next to a target vertex inserted in this round. Where the insertion would fold M_st,
-  ///     the face's longest edge is split instead;
+  ///  1. every target vertex whose error e(v) exceeds the rule's threshold (of the largest e(v), leaving out
+  ///     target vertices whose insertion was refused in two rounds), largest first, has its preimage F^-1(v)
+  ///     inserted into the source face holding it: v becomes a vertex of M_st and its error drops to zero.
+  ///     Once per face and round (the located preimages of a changed face are stale), and not next to a
+  ///     target vertex inserted in this round. Where the insertion would fold M_st, the face's longest edge is
+  ///     split instead;
   ///  2. the paper's edge splits: edges whose Eq. 2 error exceeds the rule's threshold, edges whose midpoint
   ///     lies farther than ε from F(midpoint), and the longest edge of every face whose centroid lies farther
   ///     than ε from F(centroid), at the midpoint (or near it, where the midpoint would fold M_st). Edges of M_st
   ///     shorter than ε/2 are not split: a large error there comes from a spot where F changes abruptly (a
-  ///     squeezed protrusion), which halving would chase forever; the insertions of step 1 reach it.
+  ///     squeezed protrusion), which halving would chase forever; the insertions of step 1 reach it. An edge
+  ///     with a chord beyond ε that every split point would fold is split with a local fold repair, as a
+  ///     transaction (with_repair()).
   /// Returns the number of new vertices.
   template <class Rule>
   std::size_t refine(const Rule& rule) {
@@ -527,7 +532,13 @@ private:
     const std::size_t v0 = m.number_of_vertices();
     dirty_.assign(m.number_of_faces(), 0);
     // 1. Target vertices beyond the threshold.
-    const double thr_v = rule.threshold(max_e_, eps_);
+    // The rule's largest error leaves out the vertices refused in two rounds: at a spot the refinement cannot
+    // reach, half of their error would keep every error between ε and it from being refined.
+    refused_.resize(mt.number_of_vertices(), 0);
+    double max_free = 0;
+    for (internal::WV v : mt.vertices())
+      if (refused_[v] < 2) max_free = std::max(max_free, e_[v]);
+    const double thr_v = rule.threshold(max_free, eps_);
     std::vector<internal::WV> worst;
     for (internal::WV v : mt.vertices())
       if (e_[v] > thr_v) worst.push_back(v);
@@ -540,6 +551,7 @@ private:
         // Cannot insert without folding M_st: split the face's longest edge instead (below).
         const internal::WH g = longest_edge(pre_[v].face);
         fallback.push_back({m.source(g), m.target(g)});
+        if (refused_[v] < 2) ++refused_[v];
         continue;
       }
       near[v] = 1;
@@ -564,8 +576,18 @@ private:
     for (const auto& [u, v] : todo) {
       if (m.halfedge(u, v) == internal::WH()) continue; // already split
       if (!(CGAL::squared_distance(pos_[u], pos_[v]) > 0.25 * eps_ * eps_)) continue; // shorter than ε/2
-      for (double t : {0.5, 0.375, 0.625, 0.25, 0.75}) // at the midpoint if that folds nothing over
-        if (split(u, v, t)) break;
+      auto split_near_middle = [this, u = u, v = v] {
+        for (double t : {0.5, 0.375, 0.625, 0.25, 0.75}) // at the midpoint if that folds nothing over
+          if (split(u, v, t)) return true;
+        return false;
+      };
+      if (split_near_middle()) continue;
+      // A chord beyond ε that no split can reach without a fold: split it anyway and repair the fold.
+      const internal::WE e = m.edge(m.halfedge(u, v));
+      if (std::size_t(e) < edge_chord_.size() && edge_chord_[e] > eps_) {
+        if (with_repair(split_near_middle)) ++stats_.refinement_repairs_kept;
+        else ++stats_.refinement_repairs_undone;
+      }
     }
     const std::size_t n = m.number_of_vertices() - v0;
     stats_.refinement_splits += n;
@@ -699,7 +721,7 @@ private:
     auto& m = S_.m;
     const std::size_t v0 = m.number_of_vertices();
     repairing_ = true;
-    constexpr int rounds = 30, budget = 200, max_passes = 6;
+    constexpr int budget = 200, max_passes = 6;
     int idle = 0;
     for (int pass = 0; pass < max_passes && idle < 2; ++pass) {
       const bool second_mode = pass % 2 == 1;
@@ -711,45 +733,15 @@ private:
       std::size_t kept = 0;
       for (internal::WF f0 : folded) {
         if (!face_folded(f0)) continue; // repaired with an earlier face
-        // A repair appends vertices (with their records), changes faces of m and moves only vertices it made:
-        // undoing it restores m and truncates the rest.
-        const internal::Work_mesh keep_m = m;
-        const std::size_t keep_nv = m.number_of_vertices(), keep_splits = S_.splits.size();
-        dirty_.assign(m.number_of_faces(), 0);
+        const Checkpoint cp = checkpoint();
         fold_total_ = 0;
-        made_.clear();
-        std::vector<internal::WF> region{f0};
-        for (int r = 0; r < rounds; ++r) {
-          std::vector<internal::WF> todo;
-          for (internal::WF g : region)
-            if (face_folded(g)) todo.push_back(g);
-          if (todo.empty()) break;
-          const std::size_t made_before = made_.size();
-          for (internal::WF g : todo)
-            for (int k = 0; k < 4 && made_.size() < std::size_t(budget) && face_folded(g); ++k)
-              if (!repair_step(g, second_mode)) break;
-          if (made_.size() == made_before || made_.size() >= std::size_t(budget)) break;
-          fold_total_ += unfold_vertices(made_);
-          // Every face a split changed is around a vertex the repair made.
-          region.assign(1, f0);
-          for (internal::WV x : made_)
-            for (internal::WF g : CGAL::faces_around_target(m.halfedge(x), m)) region.push_back(g);
-          std::sort(region.begin(), region.end());
-          region.erase(std::unique(region.begin(), region.end()), region.end());
-        }
+        repair_region({f0}, second_mode, budget);
         if (fold_total_ < 0) {
           ++kept;
           continue;
         }
+        rollback(cp);
         ++stats_.fold_repairs_undone;
-        m = keep_m;
-        S_.bind_property_maps();
-        S_.vrep.resize(std::min(S_.vrep.size(), keep_nv));
-        if (S_.desc.size() > keep_nv) S_.desc.resize(keep_nv);
-        S_.splits.resize(keep_splits);
-        P_.loc.resize(keep_nv);
-        img_.resize(keep_nv);
-        pos_.resize(keep_nv);
       }
       stats_.fold_repairs_kept += kept;
       idle = kept == 0 ? idle + 1 : 0;
@@ -758,6 +750,83 @@ private:
     fold_slack_ = 0;
     made_.clear();
     stats_.fold_repair_splits = m.number_of_vertices() - v0;
+  }
+
+  /// What a repair transaction restores: a repair appends vertices (with their records), changes faces of the
+  /// source and moves only vertices it made, so undoing it restores the mesh and truncates the rest.
+  struct Checkpoint {
+    internal::Work_mesh m;
+    std::size_t vertices, splits;
+    std::vector<char> dirty;
+  };
+  Checkpoint checkpoint() const { return {S_.m, S_.m.number_of_vertices(), S_.splits.size(), dirty_}; }
+  void rollback(const Checkpoint& cp) {
+    S_.m = cp.m;
+    S_.bind_property_maps();
+    S_.vrep.resize(std::min(S_.vrep.size(), cp.vertices));
+    if (S_.desc.size() > cp.vertices) S_.desc.resize(cp.vertices);
+    S_.splits.resize(cp.splits);
+    P_.loc.resize(cp.vertices);
+    img_.resize(cp.vertices);
+    pos_.resize(cp.vertices);
+    dirty_ = cp.dirty;
+  }
+
+  /// The rounds of one repair (with `repairing_` set): LEPP steps on the folded faces among `seed` and the
+  /// faces around the vertices the repair made, then those vertices unfolded, for up to 30 rounds and `budget`
+  /// splits. Starts a new count of made vertices; leaves the change in folded faces in `fold_total_` (added to
+  /// what it holds).
+  void repair_region(const std::vector<internal::WF>& seed, bool second_mode, int budget) {
+    const auto& m = S_.m;
+    constexpr int rounds = 30;
+    made_.clear();
+    std::vector<internal::WF> region = seed;
+    for (int r = 0; r < rounds; ++r) {
+      std::vector<internal::WF> todo;
+      for (internal::WF g : region)
+        if (face_folded(g)) todo.push_back(g);
+      if (todo.empty()) break;
+      const std::size_t made_before = made_.size();
+      for (internal::WF g : todo)
+        for (int k = 0; k < 4 && made_.size() < std::size_t(budget) && face_folded(g); ++k)
+          if (!repair_step(g, second_mode)) break;
+      if (made_.size() == made_before || made_.size() >= std::size_t(budget)) break;
+      fold_total_ += unfold_vertices(made_);
+      // Every face a split changed is around a vertex the repair made.
+      region = seed;
+      for (internal::WV x : made_)
+        for (internal::WF g : CGAL::faces_around_target(m.halfedge(x), m)) region.push_back(g);
+      std::sort(region.begin(), region.end());
+      region.erase(std::unique(region.begin(), region.end()), region.end());
+    }
+  }
+
+  /// A refinement split refused because it would fold M_st, made anyway as a transaction: `step` (splits with
+  /// `repairing_` set, allowed one more fold), then the fold repair of repair_region() around the new vertex,
+  /// at most 50 splits; kept only if M_st has no more folded faces than before (strict test), undone
+  /// otherwise. Returns whether it was kept.
+  template <class Step>
+  bool with_repair(Step step) {
+    constexpr int budget = 50;
+    const Checkpoint cp = checkpoint();
+    repairing_ = true;
+    fold_slack_ = 1;
+    fold_total_ = 0;
+    made_.clear();
+    bool kept = false;
+    if (step()) {
+      const auto& m = S_.m;
+      std::vector<internal::WF> seed;
+      for (std::size_t i = cp.vertices; i < m.number_of_vertices(); ++i)
+        for (internal::WF g : CGAL::faces_around_target(m.halfedge(internal::WV(i)), m)) seed.push_back(g);
+      if (fold_total_ > 0) repair_region(seed, false, budget);
+      kept = fold_total_ <= 0;
+      if (!kept) rollback(cp);
+    }
+    repairing_ = false;
+    fold_slack_ = 0;
+    made_.clear();
+    return kept;
   }
 
   /// §5.4: an edge (u, v) with opposite corners x, y whose faces deviate from the target's normal by more
@@ -859,6 +928,7 @@ private:
   std::vector<double> face_chord_;           ///< per source face: M_st's centroid's distance from F(centroid)
   std::vector<internal::Work_location> pre_; ///< per target vertex: its preimage on the source, F^-1(v)
   std::vector<char> dirty_;                  ///< per source face: changed by a split of the current round
+  std::vector<unsigned char> refused_;       ///< per target vertex: rounds its insertion was refused (up to 2)
   std::size_t flipped_ = 0;
   double max_e_ = 0, l2_e_ = 0, max_chord_ = 0, eps_ = 0;
   std::function<void(const std::string&)> progress_;
