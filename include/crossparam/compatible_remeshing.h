@@ -75,8 +75,8 @@ struct Remeshing_statistics {
   std::size_t refinement_splits = 0; ///< §5.3
   std::size_t pseudo_flips = 0;      ///< §5.4
   std::size_t unfold_moves = 0;      ///< vertex moves that removed folds of the target-shaped mesh
-  std::size_t refinement_repairs_kept = 0, refinement_repairs_undone = 0; ///< refused chord splits made with a
-                                     ///< local fold repair (§5.3), kept and undone
+  std::size_t refinement_repairs_kept = 0; ///< refused chord splits made with a local fold repair (§5.3)
+  std::size_t refinement_repairs_undone = 0; ///< such splits undone, or refused even with one fold of slack
   std::size_t fold_repair_splits = 0; ///< splits kept by the fold repair (after §5.4)
   std::size_t fold_repairs_kept = 0, fold_repairs_undone = 0; ///< fold-repair attempts kept and undone
   unsigned smoothing_rounds = 0, refinement_rounds = 0;
@@ -804,7 +804,7 @@ private:
   /// A refinement split refused because it would fold M_st, made anyway as a transaction: `step` (splits with
   /// `repairing_` set, allowed one more fold), then the fold repair of repair_region() around the new vertex,
   /// at most 50 splits; kept only if M_st has no more folded faces than before (strict test), undone
-  /// otherwise. Returns whether it was kept.
+  /// otherwise. Returns whether it was kept (false also where `step` itself is refused: nothing changed).
   template <class Step>
   bool with_repair(Step step) {
     constexpr int budget = 50;
