@@ -510,6 +510,15 @@ private:
     return false;
   }
 
+  /// split() at the midpoint of (u, v), or where that is refused, at the first of the next `points` - 1 of
+  /// t = 0.375, 0.625, 0.25, 0.75, 0.125, 0.875 that is accepted. Returns whether it split.
+  bool split_near_middle(internal::WV u, internal::WV v, int points) {
+    static constexpr double ts[] = {0.5, 0.375, 0.625, 0.25, 0.75, 0.125, 0.875};
+    for (int i = 0; i < points && i < 7; ++i)
+      if (split(u, v, ts[i])) return true;
+    return false;
+  }
+
   /// §5.3, refinement of the source and M_st together, in two steps:
   ///  1. every target vertex whose error e(v) exceeds the rule's threshold (of the largest e(v), leaving out
   ///     target vertices whose insertion was refused in two rounds), largest first, has its preimage F^-1(v)
@@ -576,16 +585,11 @@ private:
     for (const auto& [u, v] : todo) {
       if (m.halfedge(u, v) == internal::WH()) continue; // already split
       if (!(CGAL::squared_distance(pos_[u], pos_[v]) > 0.25 * eps_ * eps_)) continue; // shorter than ε/2
-      auto split_near_middle = [this, u = u, v = v] {
-        for (double t : {0.5, 0.375, 0.625, 0.25, 0.75}) // at the midpoint if that folds nothing over
-          if (split(u, v, t)) return true;
-        return false;
-      };
-      if (split_near_middle()) continue;
+      if (split_near_middle(u, v, 5)) continue;
       // A chord beyond ε that no split can reach without a fold: split it anyway and repair the fold.
       const internal::WE e = m.edge(m.halfedge(u, v));
       if (std::size_t(e) < edge_chord_.size() && edge_chord_[e] > eps_) {
-        if (with_repair(split_near_middle)) ++stats_.refinement_repairs_kept;
+        if (with_repair([&, u = u, v = v] { return split_near_middle(u, v, 5); })) ++stats_.refinement_repairs_kept;
         else ++stats_.refinement_repairs_undone;
       }
     }
@@ -674,11 +678,7 @@ private:
   /// tried, longest first. Returns whether it split.
   bool repair_step(internal::WF f, bool any_edge) {
     const auto& m = S_.m;
-    auto split_near_middle = [&](internal::WH h) {
-      for (double t : {0.5, 0.375, 0.625, 0.25, 0.75, 0.125, 0.875})
-        if (split(m.source(h), m.target(h), t)) return true;
-      return false;
-    };
+    auto split_near_middle = [&](internal::WH h) { return this->split_near_middle(m.source(h), m.target(h), 7); };
     internal::WF t = f;
     for (int depth = 0; depth < 40; ++depth) {
       const internal::WH h = longest_edge(t), o = m.opposite(h);
