@@ -68,8 +68,10 @@ TEST(Remesh, Creatures) {
   EXPECT_LE(o.check.hausdorff_source, 1e-6) << o.check.message;
   EXPECT_EQ(o.check.flipped_faces, 0u) << o.check.message;
   EXPECT_TRUE(o.check.valid) << o.check.message;
-  // Few added vertices (the layout alone adds about 17 % here), small error.
-  EXPECT_LT(double(o.stats.output_vertices), 1.3 * double(o.stats.source_vertices));
+  // Few added vertices (the layout adds 6 % here once the splits the map no longer needs are undone), small
+  // error.
+  EXPECT_GT(o.stats.layout_splits_undone, 0u);
+  EXPECT_LT(double(o.stats.output_vertices), 1.15 * double(o.stats.source_vertices));
   EXPECT_LT(o.stats.l2_error, 0.13);
   EXPECT_LT(o.stats.l2_error, o.stats.l2_error_initial);
 }
@@ -90,6 +92,31 @@ TEST(Remesh, ToleranceIsHonoured) {
   EXPECT_LE(loose.check.hausdorff_target, 1.0) << loose.check.message;
   EXPECT_LE(tight.check.hausdorff_target, 0.25) << tight.check.message;
   EXPECT_GE(tight.stats.output_vertices, loose.stats.output_vertices);
+}
+
+// Undoing the layout splits the smoothed map no longer needs saves vertices and keeps every guarantee.
+TEST(Remesh, UndoesLayoutSplits) {
+  Surface_mesh a = shapes::make_deformed_sphere(3, 1500, false), b = shapes::make_deformed_sphere(11, 1200, true);
+  Feature_correspondence f = shapes::random_features(a, b, 8, 5, false);
+  const Surface_mesh a0 = a, b0 = b;
+  Map cp(a, b, f);
+  Outcome with_undo, without;
+  for (bool undo : {true, false}) {
+    Remesher r(cp, crossparam::parameters::undo_layout_splits(undo, crossparam::parameters::tolerance(0.5)));
+    Outcome& o = undo ? with_undo : without;
+    o.stats = r.statistics();
+    o.certificate = r.certificate().valid;
+    Surface_mesh os, ot;
+    r.copy_to(0, os);
+    r.copy_to(1, ot);
+    o.check = verify_compatible_remeshing(a0, b0, os, ot, 0.5);
+    EXPECT_TRUE(o.certificate);
+    EXPECT_TRUE(o.check.valid) << o.check.message;
+  }
+  EXPECT_GT(with_undo.stats.layout_splits_undone, 0u);
+  EXPECT_EQ(without.stats.layout_splits_undone, 0u);
+  EXPECT_EQ(with_undo.stats.layout_vertices + with_undo.stats.layout_splits_undone, without.stats.layout_vertices);
+  EXPECT_LT(with_undo.stats.output_vertices, without.stats.output_vertices);
 }
 
 // The result is a function of the inputs alone: the same remeshing repeated in one process, after another
@@ -152,14 +179,14 @@ TEST_P(BenchRemesh, CompatibleAndClose) {
   EXPECT_LE(o.check.hausdorff_source, 1e-6);
   EXPECT_LT(o.stats.l2_error, 0.4);
   EXPECT_LT(o.stats.l2_error, o.stats.l2_error_initial);
-  // Today's figures (manual §10.5): Hausdorff 0.38-0.49 % against the tolerance 0.5 %; flipped faces 0 on
-  // four cases, 1 on shrec_381_382 and 7 on yang_cat_horse (bounds with a margin).
+  // Today's figures (manual §10.5): Hausdorff 0.44-0.48 % against the tolerance 0.5 %; flipped faces 0 on
+  // four cases, 2 on shrec_381_382 and 5 on yang_cat_horse (bounds with a margin); 16-55 % added vertices.
   EXPECT_LE(o.check.hausdorff_target, 0.5) << o.check.message;
-  EXPECT_LE(o.check.flipped_faces, GetParam() == "yang_cat_horse" ? 10u : GetParam() == "shrec_381_382" ? 2u : 0u);
+  EXPECT_LE(o.check.flipped_faces, GetParam() == "yang_cat_horse" ? 8u : GetParam() == "shrec_381_382" ? 2u : 0u);
   if (GetParam() != "yang_cat_horse" && GetParam() != "shrec_381_382") {
     EXPECT_TRUE(o.check.valid) << o.check.message; // every criterion of the tolerance met
   }
-  EXPECT_LT(double(o.stats.output_vertices), 2.0 * double(o.stats.source_vertices));
+  EXPECT_LT(double(o.stats.output_vertices), 1.65 * double(o.stats.source_vertices));
 }
 
 INSTANTIATE_TEST_SUITE_P(Shared, BenchRemesh,

@@ -491,7 +491,7 @@ void write_remesh(const Options& o, const Map& cp, const Remesher& r, double rea
     os << "  \"source_vertices\": " << S.source_vertices << ",\n  \"target_vertices\": " << S.target_vertices << ",\n";
     os << "  \"features\": " << C.layout.features << ",\n";
     os << "  \"protrusion_features\": " << protrusion_pairs_json(cp) << ",\n";
-    os << "  \"layout_vertices\": " << S.layout_vertices << ",\n";
+    os << "  \"layout_vertices\": " << S.layout_vertices << ",\n  \"layout_splits_undone\": " << S.layout_splits_undone << ",\n";
     os << "  \"output_vertices\": " << S.output_vertices << ",\n  \"output_faces\": " << S.output_faces << ",\n";
     os << "  \"added_vertices_percent\": " << json_number(added) << ",\n";
     os << "  \"refinement_splits\": " << S.refinement_splits << ",\n  \"pseudo_flips\": " << S.pseudo_flips << ",\n  \"unfold_moves\": " << S.unfold_moves << ",\n";

@@ -70,7 +70,8 @@ struct Half_max_refinement {
 /// Figures of one compatible remeshing. Errors are in percent of the target's bounding-box diagonal.
 struct Remeshing_statistics {
   std::size_t source_vertices = 0, target_vertices = 0; ///< of the inputs
-  std::size_t layout_vertices = 0;  ///< of the source after the layout and adjacency splits (before §5)
+  std::size_t layout_vertices = 0;  ///< of the source after the layout and adjacency splits, less those undone (before §5)
+  std::size_t layout_splits_undone = 0; ///< layout splits of the source undone before §5 (their edges restored)
   std::size_t output_vertices = 0, output_faces = 0;
   std::size_t refinement_splits = 0; ///< §5.3
   std::size_t pseudo_flips = 0;      ///< §5.4
@@ -131,6 +132,8 @@ public:
     eps_ = stats_.tolerance / 100.0;
 
     measure();
+    if (choose_parameter(get_parameter(np, internal_np::undo_layout_splits_t()), true) && undo_layout_splits() > 0)
+      measure();
     stats_.max_error_initial = 100 * max_e_;
     stats_.l2_error_initial = 100 * l2_e_;
     say("remesh: projected the source connectivity onto the target: max error " + fmt(100 * max_e_) + "%, L2 " +
@@ -596,6 +599,114 @@ private:
     const std::size_t n = m.number_of_vertices() - v0;
     stats_.refinement_splits += n;
     return n;
+  }
+
+
+  /// Undoes the layout's edge splits of the source that the smoothed map no longer needs (an addition to the
+  /// paper). The splits made paths into edge paths and met the adjacency constraint of §4.2; once the map is
+  /// smoothed, a split vertex w of edge (u, v), still of degree 4 with its four faces, can go: edge (u, v) and
+  /// its two faces come back, exactly the source's geometry (w lay on that edge), if both faces are positively
+  /// oriented over the base mesh (exact test) and fold no more faces of M_st than w's four. Latest splits
+  /// first, so that a split of an edge of an earlier split vertex is undone before it. The mesh is then
+  /// compacted: original vertices keep their indices, the remaining split vertices are renumbered after them.
+  /// Returns the number of splits undone.
+  std::size_t undo_layout_splits() {
+    auto& m = S_.m;
+    const internal::Base_mesh& B = *P_.base;
+    std::size_t undone = 0;
+    std::vector<char> gone(S_.splits.size(), 0);
+    for (std::size_t k = S_.splits.size(); k-- > 0;) {
+      const Edge_split& sp = S_.splits[k];
+      const internal::WV w(internal::WV::size_type(sp.w)), u(internal::WV::size_type(sp.u)), v(internal::WV::size_type(sp.v));
+      if (S_.vfeature[w] != internal::no_feature || m.degree(w) != 4) continue;
+      const internal::WH uw = m.halfedge(u, w), vw = m.halfedge(v, w);
+      if (uw == internal::WH() || vw == internal::WH() || m.halfedge(u, v) != internal::WH()) continue;
+      if (m.is_border(uw) || m.is_border(m.opposite(uw))) continue;
+      // Faces (u, w, x) and (w, v, x) on one side, (v, w, y) and (w, u, y) on the other.
+      const internal::WV x = m.target(m.next(uw)), y = m.target(m.next(vw));
+      if (x == y || m.target(m.next(m.opposite(vw))) != x || m.target(m.next(m.opposite(uw))) != y) continue;
+      const Corner cu = corner(u), cv = corner(v), cw = corner(w), cx = corner(x), cy = corner(y);
+      if (!acceptable(std::array<Face_plan, 4>{{{&cu, &cw, &cx}, {&cw, &cv, &cx}, {&cv, &cw, &cy}, {&cw, &cu, &cy}}},
+                      std::array<Face_plan, 2>{{{&cu, &cv, &cx}, {&cv, &cu, &cy}}}))
+        continue;
+      // The restored edge and faces must follow the target closely: their midpoint and centroids lie within
+      // a quarter of the tolerance of their images, and so does w's image (a point of the target) of the
+      // restored faces. Else w stays, where it keeps M_st on the target.
+      {
+        const double lim = 0.25 * eps_;
+        Base_location mid;
+        bool close = B.interpolate({&P_[u], &P_[v], &P_[x]}, {0.5, 0.5, 0.0}, mid) &&
+                     CGAL::squared_distance(CGAL::midpoint(cu.pos, cv.pos), corner_at(mid).pos) <= lim * lim;
+        for (const Corner* c : {&cx, &cy}) {
+          if (!close) break;
+          Base_location ce;
+          close = B.interpolate({&P_[u], &P_[v], &c->loc}, {1.0 / 3, 1.0 / 3, 1.0 / 3}, ce) &&
+                  CGAL::squared_distance(CGAL::centroid(cu.pos, cv.pos, c->pos), corner_at(ce).pos) <= lim * lim;
+        }
+        std::array<const Base_location*, 5> ls{&P_[u], &P_[v], &P_[x], &P_[y], &P_[w]};
+        std::array<internal::Point_2, 5> q;
+        int fc, fn;
+        if (close && B.canonical_frame(ls, fc, fn, q)) {
+          std::array<double, 3> b = internal::barycentric_2(q[0], q[1], q[2], q[4]);
+          Point_3 on;
+          if (b[0] >= 0 && b[1] >= 0 && b[2] >= 0) {
+            on = internal::barycentric_point(cu.pos, cv.pos, cx.pos, b);
+          } else {
+            b = internal::barycentric_2(q[1], q[0], q[3], q[4]);
+            on = internal::barycentric_point(cv.pos, cu.pos, cy.pos, b);
+          }
+          close = CGAL::squared_distance(on, cw.pos) <= lim * lim;
+        } else {
+          close = false;
+        }
+        if (!close) continue;
+      }
+      // The original faces of the four (the two on each side share one).
+      const int oa = S_.forig[m.face(uw)], ob = S_.forig[m.face(vw)];
+      CGAL::Euler::remove_center_vertex(uw, m); // leaves the quad x -> u -> y -> v -> x
+      const internal::WH nh = CGAL::Euler::split_face(m.halfedge(x, u), m.halfedge(y, v), m); // edge (u, v)
+      for (internal::WH g : {nh, m.opposite(nh)}) {
+        bool has_x = false;
+        for (internal::WV z : CGAL::vertices_around_face(g, m)) has_x |= z == x;
+        S_.forig[m.face(g)] = has_x ? oa : ob;
+      }
+      S_.epath[m.edge(nh)] = internal::no_path;
+      gone[k] = 1;
+      ++undone;
+    }
+    stats_.layout_splits_undone = undone;
+    if (undone == 0) return 0;
+    // Compaction: Surface_mesh moves the last live vertices into the holes; follow the old indices through it.
+    auto old_index = m.add_property_map<internal::WV, std::uint32_t>("v:cp_old_index", 0).first;
+    for (internal::WV z : m.vertices()) old_index[z] = std::uint32_t(z);
+    m.collect_garbage();
+    S_.bind_property_maps();
+    const std::size_t n = m.number_of_vertices();
+    std::vector<std::size_t> to_new(P_.loc.size(), std::size_t(-1));
+    std::vector<Base_location> loc(n);
+    std::vector<std::pair<int, std::array<double, 3>>> vrep(n);
+    std::vector<std::vector<float>> desc(S_.desc.size() > n ? n : 0);
+    for (internal::WV z : m.vertices()) {
+      const std::size_t o = old_index[z];
+      to_new[o] = std::size_t(z);
+      loc[z] = P_.loc[o];
+      vrep[z] = S_.vrep[o];
+      if (!desc.empty()) desc[z] = S_.desc[o];
+    }
+    m.remove_property_map(old_index);
+    P_.loc = std::move(loc);
+    S_.vrep = std::move(vrep);
+    if (!desc.empty()) S_.desc = std::move(desc);
+    std::vector<Edge_split> splits;
+    for (std::size_t k = 0; k < S_.splits.size(); ++k)
+      if (!gone[k]) {
+        Edge_split e = S_.splits[k];
+        e.u = to_new[e.u], e.v = to_new[e.v], e.w = to_new[e.w];
+        splits.push_back(e);
+      }
+    S_.splits = std::move(splits);
+    stats_.layout_vertices = n;
+    return undone;
   }
 
   /// The longest edge of face f of M_st.

@@ -27,6 +27,7 @@ struct progress_t {};           ///< callable with a std::string (default none)
 struct remeshing_weights_t {};  ///< a model of RemeshingWeights (default Error_driven_weights)
 struct refinement_rule_t {};    ///< a model of RefinementRule (default Half_max_refinement)
 struct max_rounds_t {};         ///< unsigned (default 30)
+struct undo_layout_splits_t {}; ///< bool (default true)
 } // namespace internal_np
 
 namespace parameters {
@@ -73,6 +74,9 @@ CROSSPARAM_ADD_NAMED_PARAMETER(remeshing_weights)
 CROSSPARAM_ADD_NAMED_PARAMETER(refinement_rule)
 /// \brief `unsigned`, default 30: smoothing-and-refinement rounds at most.
 CROSSPARAM_ADD_NAMED_PARAMETER(max_rounds)
+/// \brief `bool`, default true: undo, before §5, the layout's splits of the source that the smoothed map no
+/// longer needs (an addition to the paper, fewer output vertices; see the user manual).
+CROSSPARAM_ADD_NAMED_PARAMETER(undo_layout_splits)
 
 #undef CROSSPARAM_ADD_NAMED_PARAMETER
 
