@@ -602,6 +602,38 @@ private:
   }
 
 
+  /// Whether faces (u, v, x) and (v, u, y) of M_st, replacing the four faces of split vertex w, lie within `lim`
+  /// of the target: the midpoint of (u, v), the two centroids and w's image, each against F of the same
+  /// source point (w's image against the point of the two faces at w's base location).
+  bool restored_faces_follow_target(const Corner& cu, const Corner& cv, const Corner& cx, const Corner& cy,
+                                    const Corner& cw, double lim) const {
+    const internal::Base_mesh& B = *P_.base;
+    const double lim2 = lim * lim;
+    Base_location mid;
+    if (!B.interpolate({&cu.loc, &cv.loc, &cx.loc}, {0.5, 0.5, 0.0}, mid) ||
+        CGAL::squared_distance(CGAL::midpoint(cu.pos, cv.pos), corner_at(mid).pos) > lim2)
+      return false;
+    for (const Corner* c : {&cx, &cy}) {
+      Base_location ce;
+      if (!B.interpolate({&cu.loc, &cv.loc, &c->loc}, {1.0 / 3, 1.0 / 3, 1.0 / 3}, ce) ||
+          CGAL::squared_distance(CGAL::centroid(cu.pos, cv.pos, c->pos), corner_at(ce).pos) > lim2)
+        return false;
+    }
+    std::array<const Base_location*, 5> ls{&cu.loc, &cv.loc, &cx.loc, &cy.loc, &cw.loc};
+    std::array<internal::Point_2, 5> q;
+    int fc, fn;
+    if (!B.canonical_frame(ls, fc, fn, q)) return false;
+    std::array<double, 3> b = internal::barycentric_2(q[0], q[1], q[2], q[4]);
+    Point_3 on;
+    if (b[0] >= 0 && b[1] >= 0 && b[2] >= 0) {
+      on = internal::barycentric_point(cu.pos, cv.pos, cx.pos, b);
+    } else {
+      b = internal::barycentric_2(q[1], q[0], q[3], q[4]);
+      on = internal::barycentric_point(cv.pos, cu.pos, cy.pos, b);
+    }
+    return CGAL::squared_distance(on, cw.pos) <= lim2;
+  }
+
   /// Undoes the layout's edge splits of the source that the smoothed map no longer needs (an addition to the
   /// paper). The splits made paths into edge paths and met the adjacency constraint of §4.2; once the map is
   /// smoothed, a split vertex w of edge (u, v), still of degree 4 with its four faces, can go: edge (u, v) and
@@ -612,7 +644,6 @@ private:
   /// Returns the number of splits undone.
   std::size_t undo_layout_splits() {
     auto& m = S_.m;
-    const internal::Base_mesh& B = *P_.base;
     std::size_t undone = 0;
     std::vector<char> gone(S_.splits.size(), 0);
     for (std::size_t k = S_.splits.size(); k-- > 0;) {
@@ -629,38 +660,7 @@ private:
       if (!acceptable(std::array<Face_plan, 4>{{{&cu, &cw, &cx}, {&cw, &cv, &cx}, {&cv, &cw, &cy}, {&cw, &cu, &cy}}},
                       std::array<Face_plan, 2>{{{&cu, &cv, &cx}, {&cv, &cu, &cy}}}))
         continue;
-      // The restored edge and faces must follow the target closely: their midpoint and centroids lie within
-      // a quarter of the tolerance of their images, and so does w's image (a point of the target) of the
-      // restored faces. Else w stays, where it keeps M_st on the target.
-      {
-        const double lim = 0.25 * eps_;
-        Base_location mid;
-        bool close = B.interpolate({&P_[u], &P_[v], &P_[x]}, {0.5, 0.5, 0.0}, mid) &&
-                     CGAL::squared_distance(CGAL::midpoint(cu.pos, cv.pos), corner_at(mid).pos) <= lim * lim;
-        for (const Corner* c : {&cx, &cy}) {
-          if (!close) break;
-          Base_location ce;
-          close = B.interpolate({&P_[u], &P_[v], &c->loc}, {1.0 / 3, 1.0 / 3, 1.0 / 3}, ce) &&
-                  CGAL::squared_distance(CGAL::centroid(cu.pos, cv.pos, c->pos), corner_at(ce).pos) <= lim * lim;
-        }
-        std::array<const Base_location*, 5> ls{&P_[u], &P_[v], &P_[x], &P_[y], &P_[w]};
-        std::array<internal::Point_2, 5> q;
-        int fc, fn;
-        if (close && B.canonical_frame(ls, fc, fn, q)) {
-          std::array<double, 3> b = internal::barycentric_2(q[0], q[1], q[2], q[4]);
-          Point_3 on;
-          if (b[0] >= 0 && b[1] >= 0 && b[2] >= 0) {
-            on = internal::barycentric_point(cu.pos, cv.pos, cx.pos, b);
-          } else {
-            b = internal::barycentric_2(q[1], q[0], q[3], q[4]);
-            on = internal::barycentric_point(cv.pos, cu.pos, cy.pos, b);
-          }
-          close = CGAL::squared_distance(on, cw.pos) <= lim * lim;
-        } else {
-          close = false;
-        }
-        if (!close) continue;
-      }
+      if (!restored_faces_follow_target(cu, cv, cx, cy, cw, 0.25 * eps_)) continue;
       // The original faces of the four (the two on each side share one).
       const int oa = S_.forig[m.face(uw)], ob = S_.forig[m.face(vw)];
       CGAL::Euler::remove_center_vertex(uw, m); // leaves the quad x -> u -> y -> v -> x
