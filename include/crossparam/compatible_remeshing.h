@@ -638,7 +638,8 @@ private:
   /// paper). The splits made paths into edge paths and met the adjacency constraint of §4.2; once the map is
   /// smoothed, a split vertex w of edge (u, v), still of degree 4 with its four faces, can go: edge (u, v) and
   /// its two faces come back, exactly the source's geometry (w lay on that edge), if both faces are positively
-  /// oriented over the base mesh (exact test) and fold no more faces of M_st than w's four. Latest splits
+  /// oriented over the base mesh (exact test), fold no more faces of M_st than w's four, and follow the target
+  /// within ε/4 (restored_faces_follow_target()). Latest splits
   /// first, so that a split of an edge of an earlier split vertex is undone before it. The mesh is then
   /// compacted: original vertices keep their indices, the remaining split vertices are renumbered after them.
   /// Returns the number of splits undone.
