@@ -641,8 +641,9 @@ private:
   /// oriented over the base mesh (exact test), fold no more faces of M_st than w's four, and follow the target
   /// within ε/4 (restored_faces_follow_target()). Latest splits
   /// first, so that a split of an edge of an earlier split vertex is undone before it. The mesh is then
-  /// compacted: original vertices keep their indices, the remaining split vertices are renumbered after them.
-  /// Returns the number of splits undone.
+  /// compacted: original vertices keep their indices, the remaining split vertices are renumbered after them
+  /// (the mesh, the parameterization, the vertex records and the split list; M_st's `img_` and `pos_` are
+  /// stale until the next measure()). Returns the number of splits undone.
   std::size_t undo_layout_splits() {
     auto& m = S_.m;
     std::size_t undone = 0;
@@ -653,7 +654,6 @@ private:
       if (S_.vfeature[w] != internal::no_feature || m.degree(w) != 4) continue;
       const internal::WH uw = m.halfedge(u, w), vw = m.halfedge(v, w);
       if (uw == internal::WH() || vw == internal::WH() || m.halfedge(u, v) != internal::WH()) continue;
-      if (m.is_border(uw) || m.is_border(m.opposite(uw))) continue;
       // Faces (u, w, x) and (w, v, x) on one side, (v, w, y) and (w, u, y) on the other.
       const internal::WV x = m.target(m.next(uw)), y = m.target(m.next(vw));
       if (x == y || m.target(m.next(m.opposite(vw))) != x || m.target(m.next(m.opposite(uw))) != y) continue;
