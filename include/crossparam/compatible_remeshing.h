@@ -167,6 +167,7 @@ public:
       const auto ts = clock::now();
       weights.update(S_.m, edge_error_);
       const std::vector<Base_location> before = P_.loc;
+      Measure_cache measured_before = cache_;
       const double before_max = max_e_, before_l2 = l2_e_;
       for (int i = 0; i < 3; ++i) smoother.pass(sr);
       ++stats_.smoothing_rounds;
@@ -175,6 +176,7 @@ public:
       if (l2_e_ < 0.98 * before_l2 && max_e_ <= 1.05 * before_max) continue; // smoothing still helps
       if (l2_e_ > before_l2) { // it made things worse: undo the round
         P_.loc = before;
+        cache_ = std::move(measured_before);
         measure();
       }
       // Smoothing no longer lowers the error: refine.
@@ -338,11 +340,37 @@ private:
   /// error of every source edge (Eq. 2) and the global figures.
   void measure() {
     const auto& ms = S_.m;
-    img_.resize(ms.number_of_vertices());
-    pos_.resize(ms.number_of_vertices());
+    // Locating on the target is most of the cost; what the last measure() located for the same base locations
+    // (vertices, and edges and faces whose corners and their locations are unchanged) is reused.
+    Measure_cache& mc = cache_;
+    const std::size_t nv = ms.number_of_vertices();
+    img_.resize(nv);
+    pos_.resize(nv);
+    mc.loc.resize(nv);
+    mc.img.resize(nv);
+    mc.pos.resize(nv);
+    mc.same.assign(nv, 0);
     for (internal::WV v : ms.vertices()) {
-      img_[v] = locT_.locate(P_[v]);
-      pos_[v] = target_point(img_[v]);
+      if (std::size_t(v) < mc.valid && same_location(mc.loc[v], P_[v])) {
+        mc.same[v] = 1;
+      } else {
+        mc.loc[v] = P_[v];
+        mc.img[v] = locT_.locate(P_[v]);
+        mc.pos[v] = target_point(mc.img[v]);
+      }
+      img_[v] = mc.img[v];
+      pos_[v] = mc.pos[v];
+    }
+    mc.valid = nv;
+    // A face is unchanged if it has the same corners, in the same order, at unchanged locations.
+    const std::size_t nf = ms.number_of_faces();
+    mc.corners.resize(nf, {internal::WV(), internal::WV(), internal::WV()});
+    mc.face_same.assign(nf, 0);
+    for (internal::WF f : ms.faces()) {
+      const internal::WH h = ms.halfedge(f);
+      const std::array<internal::WV, 3> c{ms.source(h), ms.target(h), ms.target(ms.next(h))};
+      mc.face_same[f] = std::size_t(f) < mc.valid_faces && c == mc.corners[f] && mc.same[c[0]] && mc.same[c[1]] && mc.same[c[2]];
+      mc.corners[f] = c;
     }
     // e(v) = |F' F^-1 (v) - v|: the preimage of target vertex v on the source, carried to M_st linearly.
     locS_.build(P_);
@@ -374,11 +402,21 @@ private:
     edge_error_.assign(ms.number_of_edges(), 0.0);
     edge_chord_.assign(ms.number_of_edges(), 0.0);
     max_chord_ = 0;
+    mc.edge.resize(ms.number_of_edges());
+    mc.mid.resize(ms.number_of_edges());
+    mc.mid_pos.resize(ms.number_of_edges());
     for (internal::WE ed : ms.edges()) {
       internal::WH h = ms.halfedge(ed);
       internal::WV u = ms.source(h), v = ms.target(h);
-      const internal::Work_location lm = locT_.locate(P_.between(u, v, 0.5));
-      const Point_3 pm = target_point(lm);
+      // P_.between() interpolates in the face of h: the same face unchanged gives the same point.
+      const std::array<std::size_t, 3> key{std::size_t(u), std::size_t(v), std::size_t(ms.face(h))};
+      if (!(std::size_t(ed) < mc.valid_edges && mc.edge[ed] == key && mc.face_same[ms.face(h)])) {
+        mc.edge[ed] = key;
+        mc.mid[ed] = locT_.locate(P_.between(u, v, 0.5));
+        mc.mid_pos[ed] = target_point(mc.mid[ed]);
+      }
+      const internal::Work_location& lm = mc.mid[ed];
+      const Point_3& pm = mc.mid_pos[ed];
       const double chord = std::sqrt(CGAL::squared_distance(CGAL::midpoint(pos_[u], pos_[v]), pm));
       edge_chord_[ed] = chord;
       max_chord_ = std::max(max_chord_, chord);
@@ -388,20 +426,29 @@ private:
     }
     // Per face of M_st: the chord deviation at the centroid (reported), and whether the face is flipped.
     flipped_ = 0;
-    face_chord_.assign(ms.number_of_faces(), 0.0);
+    face_chord_.assign(nf, 0.0);
+    mc.centroid.resize(nf);
+    mc.centroid_pos.resize(nf);
     for (internal::WF f : ms.faces()) {
       internal::WH h = ms.halfedge(f);
       const internal::WV x = ms.source(h), y = ms.target(h), z = ms.target(ms.next(h));
       const Point_3 &a = pos_[x], &b = pos_[y], &c = pos_[z];
-      const internal::Work_location l = locT_.locate(P_.at(f, {1.0 / 3, 1.0 / 3, 1.0 / 3}));
-      const double chord = std::sqrt(CGAL::squared_distance(CGAL::centroid(a, b, c), target_point(l)));
+      if (!mc.face_same[f]) {
+        mc.centroid[f] = locT_.locate(P_.at(f, {1.0 / 3, 1.0 / 3, 1.0 / 3}));
+        mc.centroid_pos[f] = target_point(mc.centroid[f]);
+      }
+      const internal::Work_location& l = mc.centroid[f];
+      const double chord = std::sqrt(CGAL::squared_distance(CGAL::centroid(a, b, c), mc.centroid_pos[f]));
       max_chord_ = std::max(max_chord_, chord);
       face_chord_[f] = chord;
       // Flipped: the normal opposes the target's under each corner and under the centroid.
       flipped_ += flipped(a, img_[x].face, b, img_[y].face, c, img_[z].face) &&
                   internal::triangle_normal(a, b, c) * target_normal(l.face) < 0;
     }
+    mc.valid_edges = ms.number_of_edges();
+    mc.valid_faces = nf;
   }
+  static bool same_location(const Base_location& a, const Base_location& b) { return a.tri == b.tri && a.b == b.b; }
 
   /// A corner of a planned face: base location, image on the target and its point.
   struct Corner {
@@ -1039,6 +1086,21 @@ private:
   std::vector<double> edge_chord_;           ///< per source edge: M_st's edge midpoint's distance from F(midpoint)
   std::vector<double> face_chord_;           ///< per source face: M_st's centroid's distance from F(centroid)
   std::vector<internal::Work_location> pre_; ///< per target vertex: its preimage on the source, F^-1(v)
+  /// What measure() located on the target, by vertex, edge and face index, with what it depends on.
+  struct Measure_cache {
+    std::size_t valid = 0, valid_edges = 0, valid_faces = 0; // entries below these are filled in
+    std::vector<Base_location> loc;                           // per vertex: the location located
+    std::vector<internal::Work_location> img;
+    std::vector<Point_3> pos;
+    std::vector<char> same;                                   // per vertex: location unchanged in this measure()
+    std::vector<std::array<internal::WV, 3>> corners;         // per face: corners from its halfedge
+    std::vector<char> face_same;                              // per face: corners and their locations unchanged
+    std::vector<internal::Work_location> centroid;
+    std::vector<Point_3> centroid_pos;
+    std::vector<std::array<std::size_t, 3>> edge;             // per edge: source, target, face of its halfedge
+    std::vector<internal::Work_location> mid;
+    std::vector<Point_3> mid_pos;
+  } cache_;
   std::vector<char> dirty_;                  ///< per source face: changed by a split of the current round
   std::vector<unsigned char> refused_;       ///< per target vertex: rounds its insertion was refused (up to 2)
   std::size_t flipped_ = 0;
