@@ -661,7 +661,9 @@ int main(int argc, char** argv) {
     std::cerr << "crossparam: " << e.what() << " (see crossparam --help)\n";
     return 2;
   } catch (const Algorithm_error& e) {
-    std::cerr << "crossparam: internal error: " << e.what() << "\n";
+    // Many library messages already begin with "internal error: "; say it once.
+    const std::string what = e.what(), prefix = "internal error: ";
+    std::cerr << "crossparam: " << (what.rfind(prefix, 0) == 0 ? "" : prefix) << what << "\n";
     return 3;
   } catch (const Error& e) {
     std::cerr << "crossparam: error: " << e.what() << "\n";

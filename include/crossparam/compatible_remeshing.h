@@ -353,6 +353,7 @@ private:
     for (internal::WV v : ms.vertices()) {
       if (std::size_t(v) < mc.valid && same_location(mc.loc[v], P_[v])) {
         mc.same[v] = 1;
+        if (check_due()) check_reused(mc.img[v], P_[v]);
       } else {
         mc.loc[v] = P_[v];
         mc.img[v] = locT_.locate(P_[v]);
@@ -414,6 +415,8 @@ private:
         mc.edge[ed] = key;
         mc.mid[ed] = locT_.locate(P_.between(u, v, 0.5));
         mc.mid_pos[ed] = target_point(mc.mid[ed]);
+      } else if (check_due()) {
+        check_reused(mc.mid[ed], P_.between(u, v, 0.5));
       }
       const internal::Work_location& lm = mc.mid[ed];
       const Point_3& pm = mc.mid_pos[ed];
@@ -436,6 +439,8 @@ private:
       if (!mc.face_same[f]) {
         mc.centroid[f] = locT_.locate(P_.at(f, {1.0 / 3, 1.0 / 3, 1.0 / 3}));
         mc.centroid_pos[f] = target_point(mc.centroid[f]);
+      } else if (check_due()) {
+        check_reused(mc.centroid[f], P_.at(f, {1.0 / 3, 1.0 / 3, 1.0 / 3}));
       }
       const internal::Work_location& l = mc.centroid[f];
       const double chord = std::sqrt(CGAL::squared_distance(CGAL::centroid(a, b, c), mc.centroid_pos[f]));
@@ -449,6 +454,20 @@ private:
     mc.valid_faces = nf;
   }
   static bool same_location(const Base_location& a, const Base_location& b) { return a.tri == b.tri && a.b == b.b; }
+  /// With assertions on (the tests' builds), one reused location in 61 is located afresh and must agree
+  /// exactly: the reuse in measure() must never change a figure.
+  bool check_due() {
+#ifndef NDEBUG
+    return ++reuse_checks_ % 61 == 0;
+#else
+    return false;
+#endif
+  }
+  void check_reused(const internal::Work_location& kept, const Base_location& w) const {
+    const internal::Work_location fresh = locT_.locate(w);
+    if (fresh.face != kept.face || fresh.b != kept.b)
+      throw Algorithm_error("internal error: measure() reused a stale location on the target");
+  }
 
   /// A corner of a planned face: base location, image on the target and its point.
   struct Corner {
@@ -1101,6 +1120,7 @@ private:
     std::vector<internal::Work_location> mid;
     std::vector<Point_3> mid_pos;
   } cache_;
+  std::size_t reuse_checks_ = 0;
   std::vector<char> dirty_;                  ///< per source face: changed by a split of the current round
   std::vector<unsigned char> refused_;       ///< per target vertex: rounds its insertion was refused (up to 2)
   std::size_t flipped_ = 0;
