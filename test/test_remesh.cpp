@@ -134,6 +134,20 @@ TEST(Remesh, RepeatsExactly) {
   EXPECT_EQ(first.target_points(), again.target_points());
 }
 
+TEST(Remesh, SameResultOnAnyNumberOfThreads) {
+  // Large enough that measure() runs its edge and face loops on several threads (at least 2048 elements each).
+  Surface_mesh a = shapes::make_deformed_sphere(5, 3000, false), b = shapes::make_deformed_sphere(6, 2500, true);
+  Feature_correspondence f = shapes::random_features(a, b, 8, 7, false);
+  Map cp(a, b, f);
+  const Remesher one(cp, crossparam::parameters::number_of_threads(1u));
+  const Remesher four(cp, crossparam::parameters::number_of_threads(4u));
+  EXPECT_GT(one.statistics().output_faces, 2u * 2048u);
+  EXPECT_EQ(one.faces(), four.faces());
+  EXPECT_EQ(one.source_points(), four.source_points());
+  EXPECT_EQ(one.target_points(), four.target_points());
+  EXPECT_EQ(one.statistics().l2_error, four.statistics().l2_error);
+}
+
 TEST(Remesh, RejectsBadTolerance) {
   Surface_mesh a = shapes::make_deformed_sphere(1, 300, false), b = shapes::make_deformed_sphere(2, 300, false);
   Feature_correspondence f = shapes::random_features(a, b, 4, 1, false);

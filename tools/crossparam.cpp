@@ -62,6 +62,8 @@ const char* const usage_text =
     "                    squeezed protrusions\n"
     "  --tolerance PCT   remesh: approximation tolerance in percent of the target's bounding-box diagonal\n"
     "                    (default 0.5)\n"
+    "  --threads N       remesh, demo: threads for the error measurement (default 0: one per hardware\n"
+    "                    thread); the results are the same for any N\n"
     "  --frames N        morph: number of meshes written, both ends included (default 9)\n"
     "  --png             also render pictures of the results (needs POV-Ray: apt-get install povray)\n"
     "  --up X,Y,Z        the models' up direction in the pictures (default 0,0,1)\n"
@@ -87,6 +89,7 @@ struct Options {
   bool protrusion_features = true;
   unsigned iterations = 200;
   double tolerance = 0.5;
+  unsigned threads = 0;
   unsigned frames = 9;
   Render_options render;
 };
@@ -130,6 +133,7 @@ Options parse(int argc, char** argv) {
     else if (a == "--up") o.render.up = parse_vector(a, value());
     else if (a == "--view") o.render.view_direction = parse_vector(a, value());
     else if (a == "--iterations") o.iterations = whole_number(value(), 0, 100000, "--iterations needs a whole number up to 100000");
+    else if (a == "--threads") o.threads = whole_number(value(), 0, 1024, "--threads needs a whole number up to 1024");
     else if (a == "--tolerance") {
       std::string v = value();
       char* end = nullptr;
@@ -536,7 +540,8 @@ std::function<void(const std::string&)> progress_printer(const Options& o) {
 int run_remesh(const Options& o) {
   Inputs in = read_inputs(o);
   Map cp = compute_map(o, in.source.mesh, in.target.mesh, in.features);
-  Remesher r(cp, crossparam::parameters::tolerance(o.tolerance, crossparam::parameters::progress(progress_printer(o))));
+  Remesher r(cp, crossparam::parameters::tolerance(o.tolerance, crossparam::parameters::progress(progress_printer(o),
+                 crossparam::parameters::number_of_threads(o.threads))));
   write_remesh(o, cp, r, in.seconds);
   return 0;
 }
@@ -622,7 +627,8 @@ int run_demo(const Options& o) {
   Map cp = compute_map(o, a, b, f);
   write_layout(o, a, b, cp.layout(), {{"generate", gen_s}});
   write_map(o, cp, gen_s);
-  Remesher r(cp, crossparam::parameters::tolerance(o.tolerance, crossparam::parameters::progress(progress_printer(o))));
+  Remesher r(cp, crossparam::parameters::tolerance(o.tolerance, crossparam::parameters::progress(progress_printer(o),
+                 crossparam::parameters::number_of_threads(o.threads))));
   write_remesh(o, cp, r, gen_s);
   // The morph sequence between the two compatible meshes.
   Polygon_soup sa, sb;

@@ -16,6 +16,7 @@
 #define CROSSPARAM_COMPATIBLE_REMESHING_H
 
 #include <crossparam/cross_parameterization.h>
+#include <crossparam/internal/parallel.h>
 
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 
@@ -102,7 +103,8 @@ struct Remeshing_statistics {
 ///
 /// Named parameters: `tolerance` (percent, default 0.5), `normal_deviation` (degrees, default 30),
 /// `max_rounds` (default 30), `remeshing_weights` (default `Error_driven_weights`), `refinement_rule` (default
-/// `Half_max_refinement`), `progress` (callback, one line per step).
+/// `Half_max_refinement`), `progress` (callback, one line per step), `undo_layout_splits` (default true),
+/// `number_of_threads` (default 0: one per hardware thread; the results do not depend on it).
 template <class SourceMesh, class TargetMesh>
 class Compatible_remesher {
 public:
@@ -126,6 +128,7 @@ public:
     const double max_dev = choose_parameter(get_parameter(np, internal_np::normal_deviation_t()), 30.0);
     const unsigned max_rounds = choose_parameter(get_parameter(np, internal_np::max_rounds_t()), 30u);
     progress_ = choose_parameter(get_parameter(np, internal_np::progress_t()), std::function<void(const std::string&)>());
+    threads_ = internal::thread_count(choose_parameter(get_parameter(np, internal_np::number_of_threads_t()), 0u));
     auto weights = choose_parameter(get_parameter(np, internal_np::remeshing_weights_t()), Error_driven_weights());
     const auto rule = choose_parameter(get_parameter(np, internal_np::refinement_rule_t()), Half_max_refinement());
     // Working coordinates have a unit bounding-box diagonal: ε in percent is ε / 100 there.
@@ -340,8 +343,11 @@ private:
   /// error of every source edge (Eq. 2) and the global figures.
   void measure() {
     const auto& ms = S_.m;
+    if (ms.has_garbage()) throw Algorithm_error("internal error: measure() on a mesh with removed elements");
     // Locating on the target is most of the cost; what the last measure() located for the same base locations
-    // (vertices, and edges and faces whose corners and their locations are unchanged) is reused.
+    // (vertices, and edges and faces whose corners and their locations are unchanged) is reused. Every element
+    // is computed on its own (in parallel with `threads_`), the sums and maxima afterwards in index order, so
+    // the figures do not depend on the number of threads.
     Measure_cache& mc = cache_;
     const std::size_t nv = ms.number_of_vertices();
     img_.resize(nv);
@@ -350,10 +356,11 @@ private:
     mc.img.resize(nv);
     mc.pos.resize(nv);
     mc.same.assign(nv, 0);
-    for (internal::WV v : ms.vertices()) {
-      if (std::size_t(v) < mc.valid && same_location(mc.loc[v], P_[v])) {
+    internal::parallel_for(nv, threads_, [&](std::size_t i) {
+      const internal::WV v{internal::WV::size_type(i)};
+      if (i < mc.valid && same_location(mc.loc[v], P_[v])) {
         mc.same[v] = 1;
-        if (check_due()) check_reused(mc.img[v], P_[v]);
+        if (check_due(i)) check_reused(mc.img[v], P_[v]);
       } else {
         mc.loc[v] = P_[v];
         mc.img[v] = locT_.locate(P_[v]);
@@ -361,11 +368,11 @@ private:
       }
       img_[v] = mc.img[v];
       pos_[v] = mc.pos[v];
-    }
+    });
     mc.valid = nv;
     // A face is unchanged if it has the same corners, in the same order, at unchanged locations.
     const std::size_t nf = ms.number_of_faces();
-    mc.corners.resize(nf, {internal::WV(), internal::WV(), internal::WV()});
+    mc.corners.resize(nf);
     mc.face_same.assign(nf, 0);
     for (internal::WF f : ms.faces()) {
       const internal::WH h = ms.halfedge(f);
@@ -378,15 +385,18 @@ private:
     const auto& mt = T_.m;
     std::vector<double>& e = e_;
     e.assign(mt.number_of_vertices(), 0.0);
-    max_e_ = 0;
-    double sum2 = 0;
     pre_.resize(mt.number_of_vertices());
-    for (internal::WV v : mt.vertices()) {
+    internal::parallel_for(mt.number_of_vertices(), threads_, [&](std::size_t i) {
+      const internal::WV v{internal::WV::size_type(i)};
       const internal::Work_location& l = pre_[v] = locS_.locate(PT_[v]);
       internal::WH h = ms.halfedge(l.face);
       const Point_3 &a = pos_[ms.source(h)], &b = pos_[ms.target(h)], &c = pos_[ms.target(ms.next(h))];
       const Point_3 q = internal::barycentric_point(a, b, c, l.b);
       e[v] = std::sqrt(CGAL::squared_distance(q, mt.point(v)));
+    });
+    max_e_ = 0;
+    double sum2 = 0;
+    for (internal::WV v : mt.vertices()) {
       max_e_ = std::max(max_e_, e[v]);
       sum2 += e[v] * e[v];
     }
@@ -400,66 +410,71 @@ private:
     }
     // Eq. 2 per source edge, with the chord deviation of M_st's edge from the target at the midpoint (the
     // other side of the Hausdorff distance, which e(v) at target vertices alone does not see).
-    edge_error_.assign(ms.number_of_edges(), 0.0);
-    edge_chord_.assign(ms.number_of_edges(), 0.0);
-    max_chord_ = 0;
-    mc.edge.resize(ms.number_of_edges());
-    mc.mid.resize(ms.number_of_edges());
-    mc.mid_pos.resize(ms.number_of_edges());
-    for (internal::WE ed : ms.edges()) {
+    const std::size_t ne = ms.number_of_edges();
+    edge_error_.assign(ne, 0.0);
+    edge_chord_.assign(ne, 0.0);
+    mc.edge.resize(ne);
+    mc.mid.resize(ne);
+    mc.mid_pos.resize(ne);
+    internal::parallel_for(ne, threads_, [&](std::size_t i) {
+      const internal::WE ed{internal::WE::size_type(i)};
       internal::WH h = ms.halfedge(ed);
       internal::WV u = ms.source(h), v = ms.target(h);
       // P_.between() interpolates in the face of h: the same face unchanged gives the same point.
       const std::array<std::size_t, 3> key{std::size_t(u), std::size_t(v), std::size_t(ms.face(h))};
-      if (!(std::size_t(ed) < mc.valid_edges && mc.edge[ed] == key && mc.face_same[ms.face(h)])) {
+      if (!(i < mc.valid_edges && mc.edge[ed] == key && mc.face_same[ms.face(h)])) {
         mc.edge[ed] = key;
         mc.mid[ed] = locT_.locate(P_.between(u, v, 0.5));
         mc.mid_pos[ed] = target_point(mc.mid[ed]);
-      } else if (check_due()) {
+      } else if (check_due(i + 1)) {
         check_reused(mc.mid[ed], P_.between(u, v, 0.5));
       }
       const internal::Work_location& lm = mc.mid[ed];
-      const Point_3& pm = mc.mid_pos[ed];
-      const double chord = std::sqrt(CGAL::squared_distance(CGAL::midpoint(pos_[u], pos_[v]), pm));
+      const double chord = std::sqrt(CGAL::squared_distance(CGAL::midpoint(pos_[u], pos_[v]), mc.mid_pos[ed]));
       edge_chord_[ed] = chord;
-      max_chord_ = std::max(max_chord_, chord);
       const double eu = target_field(es_, img_[u]), ev = target_field(es_, img_[v]);
       const double em = std::max(target_field(es_, lm), chord);
       edge_error_[ed] = 0.5 * (0.5 * (eu + ev) + em);
-    }
-    // Per face of M_st: the chord deviation at the centroid (reported), and whether the face is flipped.
-    flipped_ = 0;
+    });
+    max_chord_ = 0;
+    for (double c : edge_chord_) max_chord_ = std::max(max_chord_, c);
+    // Per face of M_st: the chord deviation at the centroid (reported), and whether the face is flipped: its
+    // normal opposes the target's under each corner and under the centroid.
     face_chord_.assign(nf, 0.0);
     mc.centroid.resize(nf);
     mc.centroid_pos.resize(nf);
-    for (internal::WF f : ms.faces()) {
+    std::vector<char> folded(nf, 0);
+    internal::parallel_for(nf, threads_, [&](std::size_t i) {
+      const internal::WF f{internal::WF::size_type(i)};
       internal::WH h = ms.halfedge(f);
       const internal::WV x = ms.source(h), y = ms.target(h), z = ms.target(ms.next(h));
       const Point_3 &a = pos_[x], &b = pos_[y], &c = pos_[z];
       if (!mc.face_same[f]) {
         mc.centroid[f] = locT_.locate(P_.at(f, {1.0 / 3, 1.0 / 3, 1.0 / 3}));
         mc.centroid_pos[f] = target_point(mc.centroid[f]);
-      } else if (check_due()) {
+      } else if (check_due(i + 2)) {
         check_reused(mc.centroid[f], P_.at(f, {1.0 / 3, 1.0 / 3, 1.0 / 3}));
       }
-      const internal::Work_location& l = mc.centroid[f];
-      const double chord = std::sqrt(CGAL::squared_distance(CGAL::centroid(a, b, c), mc.centroid_pos[f]));
-      max_chord_ = std::max(max_chord_, chord);
-      face_chord_[f] = chord;
-      // Flipped: the normal opposes the target's under each corner and under the centroid.
-      flipped_ += flipped(a, img_[x].face, b, img_[y].face, c, img_[z].face) &&
-                  internal::triangle_normal(a, b, c) * target_normal(l.face) < 0;
+      face_chord_[f] = std::sqrt(CGAL::squared_distance(CGAL::centroid(a, b, c), mc.centroid_pos[f]));
+      folded[i] = flipped(a, img_[x].face, b, img_[y].face, c, img_[z].face) &&
+                  internal::triangle_normal(a, b, c) * target_normal(mc.centroid[f].face) < 0;
+    });
+    flipped_ = 0;
+    for (std::size_t i = 0; i < nf; ++i) {
+      max_chord_ = std::max(max_chord_, face_chord_[i]);
+      flipped_ += folded[i];
     }
-    mc.valid_edges = ms.number_of_edges();
+    mc.valid_edges = ne;
     mc.valid_faces = nf;
   }
   static bool same_location(const Base_location& a, const Base_location& b) { return a.tri == b.tri && a.b == b.b; }
-  /// With assertions on (the tests' builds), one reused location in 61 is located afresh and must agree
-  /// exactly: the reuse in measure() must never change a figure.
-  bool check_due() {
+  /// With assertions on (the tests' builds), the reused locations of one index in 61 are located afresh and
+  /// must agree exactly: the reuse in measure() must never change a figure.
+  static bool check_due(std::size_t index) {
 #ifndef NDEBUG
-    return ++reuse_checks_ % 61 == 0;
+    return index % 61 == 0;
 #else
+    (void)index;
     return false;
 #endif
   }
@@ -1120,7 +1135,7 @@ private:
     std::vector<internal::Work_location> mid;
     std::vector<Point_3> mid_pos;
   } cache_;
-  std::size_t reuse_checks_ = 0;
+  unsigned threads_ = 1; ///< threads of measure() (named parameter `number_of_threads`)
   std::vector<char> dirty_;                  ///< per source face: changed by a split of the current round
   std::vector<unsigned char> refused_;       ///< per target vertex: rounds its insertion was refused (up to 2)
   std::size_t flipped_ = 0;

@@ -28,6 +28,7 @@ struct remeshing_weights_t {};  ///< a model of RemeshingWeights (default Error_
 struct refinement_rule_t {};    ///< a model of RefinementRule (default Half_max_refinement)
 struct max_rounds_t {};         ///< unsigned (default 30)
 struct undo_layout_splits_t {}; ///< bool (default true)
+struct number_of_threads_t {};  ///< unsigned (default 0: one per hardware thread)
 } // namespace internal_np
 
 namespace parameters {
@@ -77,6 +78,9 @@ CROSSPARAM_ADD_NAMED_PARAMETER(max_rounds)
 /// \brief `bool`, default true: undo, before §5, the layout's splits of the source that the smoothed map no
 /// longer needs (an addition to the paper, fewer output vertices; see the user manual).
 CROSSPARAM_ADD_NAMED_PARAMETER(undo_layout_splits)
+/// \brief `unsigned`, default 0 (one per hardware thread): threads for the remesher's error measurement. The
+/// results do not depend on it: every element is computed on its own, sums and maxima in a fixed order.
+CROSSPARAM_ADD_NAMED_PARAMETER(number_of_threads)
 
 #undef CROSSPARAM_ADD_NAMED_PARAMETER
 
