@@ -339,6 +339,12 @@ private:
     return l.b[0] * f[m.source(h)] + l.b[1] * f[m.target(h)] + l.b[2] * f[m.target(m.next(h))];
   }
 
+  /// A corner of a planned face: base location, image on the target and its point.
+  struct Corner {
+    Base_location loc;
+    internal::Work_location img;
+    Point_3 pos;
+  };
   /// Images of the source vertices (M_st), e(v) at the target vertices (Eq. 1) and its smoothed field, the
   /// error of every source edge (Eq. 2) and the global figures.
   void measure() {
@@ -352,22 +358,18 @@ private:
     const std::size_t nv = ms.number_of_vertices();
     img_.resize(nv);
     pos_.resize(nv);
-    mc.loc.resize(nv);
-    mc.img.resize(nv);
-    mc.pos.resize(nv);
+    mc.vertex.resize(nv);
     mc.same.assign(nv, 0);
     internal::parallel_for(nv, threads_, [&](std::size_t i) {
       const internal::WV v{internal::WV::size_type(i)};
-      if (i < mc.valid && same_location(mc.loc[v], P_[v])) {
+      if (i < mc.valid && same_location(mc.vertex[v].loc, P_[v])) {
         mc.same[v] = 1;
-        if (check_due(i)) check_reused(mc.img[v], P_[v]);
+        if (check_due(i)) check_reused(mc.vertex[v]);
       } else {
-        mc.loc[v] = P_[v];
-        mc.img[v] = locT_.locate(P_[v]);
-        mc.pos[v] = target_point(mc.img[v]);
+        mc.vertex[v] = corner_at(P_[v]);
       }
-      img_[v] = mc.img[v];
-      pos_[v] = mc.pos[v];
+      img_[v] = mc.vertex[v].img;
+      pos_[v] = mc.vertex[v].pos;
     });
     mc.valid = nv;
     // A face is unchanged if it has the same corners, in the same order, at unchanged locations.
@@ -415,7 +417,6 @@ private:
     edge_chord_.assign(ne, 0.0);
     mc.edge.resize(ne);
     mc.mid.resize(ne);
-    mc.mid_pos.resize(ne);
     internal::parallel_for(ne, threads_, [&](std::size_t i) {
       const internal::WE ed{internal::WE::size_type(i)};
       internal::WH h = ms.halfedge(ed);
@@ -424,13 +425,12 @@ private:
       const std::array<std::size_t, 3> key{std::size_t(u), std::size_t(v), std::size_t(ms.face(h))};
       if (!(i < mc.valid_edges && mc.edge[ed] == key && mc.face_same[ms.face(h)])) {
         mc.edge[ed] = key;
-        mc.mid[ed] = locT_.locate(P_.between(u, v, 0.5));
-        mc.mid_pos[ed] = target_point(mc.mid[ed]);
+        mc.mid[ed] = corner_at(P_.between(u, v, 0.5));
       } else if (check_due(i + 1)) {
-        check_reused(mc.mid[ed], P_.between(u, v, 0.5));
+        check_reused(mc.mid[ed]);
       }
-      const internal::Work_location& lm = mc.mid[ed];
-      const double chord = std::sqrt(CGAL::squared_distance(CGAL::midpoint(pos_[u], pos_[v]), mc.mid_pos[ed]));
+      const internal::Work_location& lm = mc.mid[ed].img;
+      const double chord = std::sqrt(CGAL::squared_distance(CGAL::midpoint(pos_[u], pos_[v]), mc.mid[ed].pos));
       edge_chord_[ed] = chord;
       const double eu = target_field(es_, img_[u]), ev = target_field(es_, img_[v]);
       const double em = std::max(target_field(es_, lm), chord);
@@ -442,7 +442,6 @@ private:
     // normal opposes the target's under each corner and under the centroid.
     face_chord_.assign(nf, 0.0);
     mc.centroid.resize(nf);
-    mc.centroid_pos.resize(nf);
     std::vector<char> folded(nf, 0);
     internal::parallel_for(nf, threads_, [&](std::size_t i) {
       const internal::WF f{internal::WF::size_type(i)};
@@ -450,14 +449,13 @@ private:
       const internal::WV x = ms.source(h), y = ms.target(h), z = ms.target(ms.next(h));
       const Point_3 &a = pos_[x], &b = pos_[y], &c = pos_[z];
       if (!mc.face_same[f]) {
-        mc.centroid[f] = locT_.locate(P_.at(f, {1.0 / 3, 1.0 / 3, 1.0 / 3}));
-        mc.centroid_pos[f] = target_point(mc.centroid[f]);
+        mc.centroid[f] = corner_at(P_.at(f, {1.0 / 3, 1.0 / 3, 1.0 / 3}));
       } else if (check_due(i + 2)) {
-        check_reused(mc.centroid[f], P_.at(f, {1.0 / 3, 1.0 / 3, 1.0 / 3}));
+        check_reused(mc.centroid[f]);
       }
-      face_chord_[f] = std::sqrt(CGAL::squared_distance(CGAL::centroid(a, b, c), mc.centroid_pos[f]));
+      face_chord_[f] = std::sqrt(CGAL::squared_distance(CGAL::centroid(a, b, c), mc.centroid[f].pos));
       folded[i] = flipped(a, img_[x].face, b, img_[y].face, c, img_[z].face) &&
-                  internal::triangle_normal(a, b, c) * target_normal(mc.centroid[f].face) < 0;
+                  internal::triangle_normal(a, b, c) * target_normal(mc.centroid[f].img.face) < 0;
     });
     flipped_ = 0;
     for (std::size_t i = 0; i < nf; ++i) {
@@ -478,18 +476,13 @@ private:
     return false;
 #endif
   }
-  void check_reused(const internal::Work_location& kept, const Base_location& w) const {
-    const internal::Work_location fresh = locT_.locate(w);
-    if (fresh.face != kept.face || fresh.b != kept.b)
+  /// `kept` must be what corner_at() gives for its base location now.
+  void check_reused(const Corner& kept) const {
+    const internal::Work_location fresh = locT_.locate(kept.loc);
+    if (fresh.face != kept.img.face || fresh.b != kept.img.b)
       throw Algorithm_error("internal error: measure() reused a stale location on the target");
   }
 
-  /// A corner of a planned face: base location, image on the target and its point.
-  struct Corner {
-    Base_location loc;
-    internal::Work_location img;
-    Point_3 pos;
-  };
   Corner corner(internal::WV v) const { return {P_[v], img_[v], pos_[v]}; }
   Corner corner_at(const Base_location& w) const {
     const internal::Work_location l = locT_.locate(w);
@@ -1120,20 +1113,17 @@ private:
   std::vector<double> edge_chord_;           ///< per source edge: M_st's edge midpoint's distance from F(midpoint)
   std::vector<double> face_chord_;           ///< per source face: M_st's centroid's distance from F(centroid)
   std::vector<internal::Work_location> pre_; ///< per target vertex: its preimage on the source, F^-1(v)
-  /// What measure() located on the target, by vertex, edge and face index, with what it depends on.
+  /// What measure() located on the target (corner_at() of a base location), by vertex, edge midpoint and face
+  /// centroid, with what it depends on.
   struct Measure_cache {
     std::size_t valid = 0, valid_edges = 0, valid_faces = 0; // entries below these are filled in
-    std::vector<Base_location> loc;                           // per vertex: the location located
-    std::vector<internal::Work_location> img;
-    std::vector<Point_3> pos;
-    std::vector<char> same;                                   // per vertex: location unchanged in this measure()
-    std::vector<std::array<internal::WV, 3>> corners;         // per face: corners from its halfedge
-    std::vector<char> face_same;                              // per face: corners and their locations unchanged
-    std::vector<internal::Work_location> centroid;
-    std::vector<Point_3> centroid_pos;
-    std::vector<std::array<std::size_t, 3>> edge;             // per edge: source, target, face of its halfedge
-    std::vector<internal::Work_location> mid;
-    std::vector<Point_3> mid_pos;
+    std::vector<Corner> vertex;
+    std::vector<char> same;                           // per vertex: location unchanged in this measure()
+    std::vector<std::array<internal::WV, 3>> corners; // per face: corners from its halfedge
+    std::vector<char> face_same;                      // per face: corners and their locations unchanged
+    std::vector<Corner> centroid;
+    std::vector<std::array<std::size_t, 3>> edge;     // per edge: source, target, face of its halfedge
+    std::vector<Corner> mid;
   } cache_;
   unsigned threads_ = 1; ///< threads of measure() (named parameter `number_of_threads`)
   std::vector<char> dirty_;                  ///< per source face: changed by a split of the current round
