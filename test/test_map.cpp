@@ -164,6 +164,28 @@ TEST(Map, Creatures) {
   }
 }
 
+// The two meshes are smoothed on two threads and the distortion is measured on several: the map must be the
+// same, bit for bit, whatever the number of threads.
+TEST(Map, SameResultOnAnyNumberOfThreads) {
+  // Above 4096 source vertices, so that the distortion measurement runs on two threads as well.
+  const Surface_mesh a0 = shapes::make_deformed_sphere(3, 5500, true), b0 = shapes::make_deformed_sphere(4, 2000, true);
+  const Feature_correspondence f = shapes::random_features(a0, b0, 9, 5, false);
+  Surface_mesh a1 = a0, b1 = b0, a2 = a0, b2 = b0;
+  const Map one(a1, b1, f, crossparam::parameters::number_of_threads(1u));
+  const Map two(a2, b2, f, crossparam::parameters::number_of_threads(2u));
+  EXPECT_GT(one.statistics().smoothing_source.iterations, 0u);
+  EXPECT_GE(one.parameterization(0).loc.size(), 2u * 2048u);
+  EXPECT_EQ(one.statistics().smoothing_source.iterations, two.statistics().smoothing_source.iterations);
+  EXPECT_EQ(one.statistics().distortion.angular, two.statistics().distortion.angular);
+  for (int side = 0; side < 2; ++side) {
+    const auto &p = one.parameterization(side).loc, &q = two.parameterization(side).loc;
+    ASSERT_EQ(p.size(), q.size());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) differ += p[i].tri != q[i].tri || p[i].b != q[i].b;
+    EXPECT_EQ(differ, 0u) << "side " << side;
+  }
+}
+
 // A featureless protrusion: without the tail-tip feature, the first map squeezes the tail into a spot of its
 // base triangle; the protrusion features put a pair back at the two tails' tips.
 TEST(Map, ProtrusionFeatures) {

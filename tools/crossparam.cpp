@@ -62,8 +62,8 @@ const char* const usage_text =
     "                    squeezed protrusions\n"
     "  --tolerance PCT   remesh: approximation tolerance in percent of the target's bounding-box diagonal\n"
     "                    (default 0.5)\n"
-    "  --threads N       remesh, demo: threads for the error measurement (default 0: one per hardware\n"
-    "                    thread); the results are the same for any N\n"
+    "  --threads N       map, remesh, demo: threads for the smoothing of the two meshes and the error\n"
+    "                    measurements (default 0: one per hardware thread); the results are the same for any N\n"
     "  --frames N        morph: number of meshes written, both ends included (default 9)\n"
     "  --png             also render pictures of the results (needs POV-Ray: apt-get install povray)\n"
     "  --up X,Y,Z        the models' up direction in the pictures (default 0,0,1)\n"
@@ -385,7 +385,9 @@ Map compute_map(const Options& o, Surface_mesh& s, Surface_mesh& t, const Featur
              crossparam::parameters::apply_path_flips(
                  o.flips, crossparam::parameters::apply_smoothing(
                               o.smoothing, crossparam::parameters::protrusion_features(
-                                               o.protrusion_features, CGAL::parameters::number_of_iterations(o.iterations)))),
+                                               o.protrusion_features,
+                                               crossparam::parameters::number_of_threads(
+                                                   o.threads, CGAL::parameters::number_of_iterations(o.iterations))))),
              CGAL::parameters::default_values());
 }
 

@@ -8,6 +8,7 @@
 #include <crossparam/patch_layout.h>
 #include <crossparam/smoothing.h>
 #include <crossparam/internal/base_locator.h>
+#include <crossparam/internal/parallel.h>
 
 #include <CGAL/Polygon_mesh_processing/locate.h>
 
@@ -57,7 +58,9 @@ struct Input_location {
 ///   - `CGAL::parameters::number_of_iterations` (unsigned, default 200): smoothing passes at most;
 ///   - `crossparam::parameters::smoothing_tolerance` (double, default 1e-4 base-edge units);
 ///   - `crossparam::parameters::smoothing_weights` (a `SmoothingWeights` model, default `Mean_value_weights`);
-///   - `crossparam::parameters::apply_smoothing` (bool, default true).
+///   - `crossparam::parameters::apply_smoothing` (bool, default true);
+///   - `crossparam::parameters::number_of_threads` (unsigned, default 0: one per hardware thread): the two
+///     meshes are smoothed on a thread each, the distortion is measured on as many; the map does not depend on it.
 template <class SourceMesh, class TargetMesh>
 class Cross_parameterization {
 public:
@@ -83,6 +86,9 @@ public:
     so.tolerance = choose_parameter(get_parameter(np_source, internal_np::smoothing_tolerance_t()), 1e-4);
     const bool smooth = choose_parameter(get_parameter(np_source, internal_np::apply_smoothing_t()), true);
     auto weights = choose_parameter(get_parameter(np_source, internal_np::smoothing_weights_t()), Mean_value_weights());
+    const unsigned threads_requested = choose_parameter(get_parameter(np_source, internal_np::number_of_threads_t()), 0u);
+    threads_ = internal::thread_count(threads_requested);
+    const unsigned threads = threads_;
 
     // Protrusion features: a first map, on copies of the meshes, finds the protrusions it squeezes; a feature
     // pair at each tip makes the limb a corner of the base domain instead of a spot inside a patch.
@@ -105,7 +111,7 @@ public:
           cs, ct, features,
           protrusion_features(false, smoothing_weights(weights, smoothing_tolerance(so.tolerance,
               apply_smoothing(smooth, apply_path_flips(flips, consistent_paths(consistent,
-                  number_of_iterations(so.max_iterations))))))));
+                  number_of_threads(threads_requested, number_of_iterations(so.max_iterations)))))))));
       const Feature_correspondence tips = probe.protrusion_tips();
       features_.insert(features_.end(), tips.begin(), tips.end());
       stats_.protrusion_features = tips.size();
@@ -173,13 +179,21 @@ public:
       unsigned bad = 0, done = 0;
       const unsigned per_round = 5, patience = 2;
       while (done < so.max_iterations) {
-        double moved = 0;
-        for (unsigned i = 0; i < per_round && done < so.max_iterations; ++i, ++done) {
-          stats_.smoothing_source.last_max_move = smooth_s.pass(stats_.smoothing_source);
-          stats_.smoothing_target.last_max_move = smooth_t.pass(stats_.smoothing_target);
-          moved = std::max(stats_.smoothing_source.last_max_move, stats_.smoothing_target.last_max_move);
-          stats_.smoothing_source.iterations = stats_.smoothing_target.iterations = done + 1;
-        }
+        // The two meshes' passes are independent (each moves only its own vertices): one thread each.
+        const unsigned passes = std::min(per_round, so.max_iterations - done);
+        internal::parallel_invoke(
+            threads,
+            [&] {
+              for (unsigned i = 0; i < passes; ++i)
+                stats_.smoothing_source.last_max_move = smooth_s.pass(stats_.smoothing_source);
+            },
+            [&] {
+              for (unsigned i = 0; i < passes; ++i)
+                stats_.smoothing_target.last_max_move = smooth_t.pass(stats_.smoothing_target);
+            });
+        done += passes;
+        const double moved = std::max(stats_.smoothing_source.last_max_move, stats_.smoothing_target.last_max_move);
+        stats_.smoothing_source.iterations = stats_.smoothing_target.iterations = done;
         locator_[1].build(P_[1]);
         Distortion d = measure_distortion();
         if (d.angular < best_d.angular) {
@@ -640,9 +654,10 @@ private:
     const auto& ms = B_.side[0].m;
     const auto& mt = B_.side[1].m;
     std::vector<Point_3> image(ms.number_of_vertices());
-    for (internal::WV v : ms.vertices()) {
+    internal::parallel_for(ms.number_of_vertices(), threads_, [&](std::size_t i) {
+      const internal::WV v{internal::WV::size_type(i)};
       image[v] = internal::point_at(mt, locator_[1].locate(P_[0][v]));
-    }
+    });
     std::vector<std::array<Point_3, 3>> from, to;
     for (internal::WF f : ms.faces()) {
       internal::WH h = ms.halfedge(f);
@@ -672,6 +687,7 @@ private:
 
   SourceMesh& tm_s_;
   TargetMesh& tm_t_;
+  unsigned threads_ = 1; ///< threads of the smoothing and the distortion measurement (`number_of_threads`)
   Feature_correspondence features_;
   internal::Layout_builder B_;
   internal::Mesh_link<SourceMesh> link_s_;

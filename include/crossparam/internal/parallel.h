@@ -49,6 +49,34 @@ void parallel_for(std::size_t n, unsigned threads, const Body& body) {
   if (error) std::rethrow_exception(error);
 }
 
+/// Calls a() and b(), on two threads if `threads` is at least 2 (b on a new one), else one after the other.
+/// The first exception thrown is rethrown once both have finished.
+template <class A, class B>
+void parallel_invoke(unsigned threads, const A& a, const B& b) {
+  if (threads < 2) {
+    a();
+    b();
+    return;
+  }
+  std::exception_ptr error_b;
+  std::thread other([&] {
+    try {
+      b();
+    } catch (...) {
+      error_b = std::current_exception();
+    }
+  });
+  std::exception_ptr error_a;
+  try {
+    a();
+  } catch (...) {
+    error_a = std::current_exception();
+  }
+  other.join();
+  if (error_a) std::rethrow_exception(error_a);
+  if (error_b) std::rethrow_exception(error_b);
+}
+
 } // namespace internal
 } // namespace crossparam
 
