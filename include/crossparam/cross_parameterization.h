@@ -88,7 +88,6 @@ public:
     auto weights = choose_parameter(get_parameter(np_source, internal_np::smoothing_weights_t()), Mean_value_weights());
     const unsigned threads_requested = choose_parameter(get_parameter(np_source, internal_np::number_of_threads_t()), 0u);
     threads_ = internal::thread_count(threads_requested);
-    const unsigned threads = threads_;
 
     // Protrusion features: a first map, on copies of the meshes, finds the protrusions it squeezes; a feature
     // pair at each tip makes the limb a corner of the base domain instead of a spot inside a patch.
@@ -182,7 +181,7 @@ public:
         // The two meshes' passes are independent (each moves only its own vertices): one thread each.
         const unsigned passes = std::min(per_round, so.max_iterations - done);
         internal::parallel_invoke(
-            threads,
+            threads_,
             [&] {
               for (unsigned i = 0; i < passes; ++i)
                 stats_.smoothing_source.last_max_move = smooth_s.pass(stats_.smoothing_source);
