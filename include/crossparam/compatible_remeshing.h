@@ -675,7 +675,6 @@ private:
     return n;
   }
 
-
   /// Whether faces (u, v, x) and (v, u, y) of M_st, replacing the four faces of split vertex w, lie within `lim`
   /// of the target: the midpoint of (u, v), the two centroids and w's image, each against F of the same
   /// source point (w's image against the point of the two faces at w's base location).

@@ -78,8 +78,9 @@ CROSSPARAM_ADD_NAMED_PARAMETER(max_rounds)
 /// \brief `bool`, default true: undo, before §5, the layout's splits of the source that the smoothed map no
 /// longer needs (an addition to the paper, fewer output vertices; see the user manual).
 CROSSPARAM_ADD_NAMED_PARAMETER(undo_layout_splits)
-/// \brief `unsigned`, default 0 (one per hardware thread): threads for the remesher's error measurement. The
-/// results do not depend on it: every element is computed on its own, sums and maxima in a fixed order.
+/// \brief `unsigned`, default 0 (one per hardware thread): threads for the map's smoothing (one per mesh) and
+/// distortion measurement, and for the remesher's error measurement. The results do not depend on it: each mesh
+/// is smoothed on its own, every measured element is computed on its own, sums and maxima in a fixed order.
 CROSSPARAM_ADD_NAMED_PARAMETER(number_of_threads)
 
 #undef CROSSPARAM_ADD_NAMED_PARAMETER

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// A minimal parallel loop over an index range, with std::thread: the range is cut into one contiguous chunk
-// per thread. The body must only write what belongs to its own index; the first exception thrown in any
-// thread is rethrown to the caller once all threads have finished.
+// Minimal parallelism with std::thread: a loop over an index range, cut into one contiguous chunk per thread,
+// and two independent calls side by side. Each body must only write what belongs to it; the first exception
+// thrown in any thread is rethrown to the caller once all threads have finished.
 #ifndef CROSSPARAM_INTERNAL_PARALLEL_H
 #define CROSSPARAM_INTERNAL_PARALLEL_H
 
