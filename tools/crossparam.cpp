@@ -505,6 +505,8 @@ void write_remesh(const Options& o, const Map& cp, const Remesher& r, double rea
        << "},\n";
     os << "  \"fold_repair\": {\"splits\": " << S.fold_repair_splits << ", \"kept\": " << S.fold_repairs_kept
        << ", \"undone\": " << S.fold_repairs_undone << "},\n";
+    os << "  \"untangling\": {\"folds_removed\": " << S.untangled_folds << ", \"vertices_moved\": " << S.untangle_moves
+       << ", \"max_move_percent\": " << json_number(S.untangle_max_move) << "},\n";
     os << "  \"tolerance_percent\": " << json_number(S.tolerance) << ",\n";
     os << "  \"error_initial\": {\"max_percent\": " << json_number(S.max_error_initial)
        << ", \"l2_percent\": " << json_number(S.l2_error_initial) << "},\n";
@@ -521,6 +523,7 @@ void write_remesh(const Options& o, const Map& cp, const Remesher& r, double rea
        << ", \"adaptive_smoothing\": " << json_number(S.seconds_smoothing)
        << ", \"refinement\": " << json_number(S.seconds_refinement) << ", \"pseudo_flips\": " << json_number(S.seconds_flips)
        << ", \"fold_repair\": " << json_number(S.seconds_fold_repair)
+       << ", \"untangle\": " << json_number(S.seconds_untangle)
        << ", \"certificate\": " << json_number(S.seconds_certificate) << ", \"remesh_total\": " << json_number(S.seconds_total)
        << "}\n}\n";
   });

@@ -11,16 +11,24 @@
 // the two diagonals instead. Splits are applied to the source mesh and M_st together (they share connectivity);
 // a new vertex lies on a source edge or inside a source face, and its image is F of it, on the target. No vertex is removed and no edge
 // is flipped, so the source geometry is kept exactly, and every step keeps the parameterization one-to-one
-// (exact orientation tests), which is certified again at the end.
+// (exact orientation tests), which is certified again at the end. Folds of M_st that the fold repair cannot
+// remove are untangled last along the target (internal/untangle.h): there, and only there, a vertex of the
+// target-shaped mesh is not F of its source vertex.
 #ifndef CROSSPARAM_COMPATIBLE_REMESHING_H
 #define CROSSPARAM_COMPATIBLE_REMESHING_H
 
 #include <crossparam/cross_parameterization.h>
 #include <crossparam/internal/parallel.h>
+#include <crossparam/internal/untangle.h>
 
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 
 #include <functional>
+#include <map>
+#include <set>
 
 namespace crossparam {
 
@@ -81,6 +89,9 @@ struct Remeshing_statistics {
   std::size_t refinement_repairs_undone = 0; ///< such splits undone, or refused even with one fold of slack
   std::size_t fold_repair_splits = 0; ///< splits kept by the fold repair (after §5.4)
   std::size_t fold_repairs_kept = 0, fold_repairs_undone = 0; ///< fold-repair attempts kept and undone
+  std::size_t untangled_folds = 0;   ///< folded faces that the untangling on the target removed
+  std::size_t untangle_moves = 0;    ///< vertices of the target-shaped mesh it moved (off F, along the target)
+  double untangle_max_move = 0;      ///< the farthest such move, percent of the target's bounding-box diagonal
   unsigned smoothing_rounds = 0, refinement_rounds = 0;
   double tolerance = 0;              ///< ε, percent
   double max_error_initial = 0, l2_error_initial = 0; ///< e(v) of M_st right after the projection
@@ -91,7 +102,7 @@ struct Remeshing_statistics {
   std::size_t flipped_faces = 0;     ///< output faces whose normal opposes the target's where they land
   bool converged = false;            ///< max error and max chord error <= tolerance, and no flipped face
   double seconds_cross_parameterization = 0, seconds_smoothing = 0, seconds_refinement = 0, seconds_flips = 0,
-         seconds_fold_repair = 0, seconds_certificate = 0, seconds_total = 0;
+         seconds_fold_repair = 0, seconds_untangle = 0, seconds_certificate = 0, seconds_total = 0;
 };
 
 /// \brief Compatible remeshing (paper §5) of the two meshes of a cross-parameterization.
@@ -227,6 +238,16 @@ public:
           " undone), " + std::to_string(flipped_) + " flipped faces");
     }
     stats_.seconds_fold_repair = sec(tfr, clock::now());
+
+    // Folds still left: untangle them on the target, off F (an addition to the paper).
+    const auto tu = clock::now();
+    if (flipped_ > 0) {
+      untangle_folds();
+      say("remesh: untangling: " + std::to_string(stats_.untangled_folds) + " folds removed, " +
+          std::to_string(stats_.untangle_moves) + " vertices moved along the target (at most " +
+          fmt(stats_.untangle_max_move) + "%), " + std::to_string(flipped_) + " flipped faces");
+    }
+    stats_.seconds_untangle = sec(tu, clock::now());
 
     // The parameterization of the remeshed source must still be one-to-one.
     const auto tc = clock::now();
@@ -442,7 +463,8 @@ private:
     // normal opposes the target's under each corner and under the centroid.
     face_chord_.assign(nf, 0.0);
     mc.centroid.resize(nf);
-    std::vector<char> folded(nf, 0);
+    std::vector<char>& folded = folded_;
+    folded.assign(nf, 0);
     internal::parallel_for(nf, threads_, [&](std::size_t i) {
       const internal::WF f{internal::WF::size_type(i)};
       internal::WH h = ms.halfedge(f);
@@ -1072,6 +1094,194 @@ private:
     return n;
   }
 
+  using Target_tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, CGAL::AABB_face_graph_triangle_primitive<internal::Work_mesh>>>;
+
+  /// Whether triangle (a, b, c) is flipped by the rule of the independent verifier: its normal opposes the
+  /// target's at the points of the target nearest its centroid and each corner.
+  bool flipped_on_target(const Target_tree& tree, const Point_3& a, const Point_3& b, const Point_3& c) const {
+    const Kernel::Vector_3 n = internal::triangle_normal(a, b, c);
+    for (const Point_3& p : {CGAL::centroid(a, b, c), a, b, c})
+      if (!(n * target_normal(tree.closest_point_and_primitive(p).second) < 0)) return false;
+    return true;
+  }
+  bool flipped_on_target(const Target_tree& tree, internal::WF f) const {
+    const auto& m = S_.m;
+    const internal::WH h = m.halfedge(f);
+    return flipped_on_target(tree, pos_[m.source(h)], pos_[m.target(h)], pos_[m.target(m.next(h))]);
+  }
+
+  /// Untangling on the target (an addition to the paper), for the folds that the fold repair could not remove.
+  /// Where F is this anisotropic, no M_st that is F of a one-to-one M_s avoids the fold (§10.5 of the manual),
+  /// so these vertices of the target-shaped mesh leave F: they move along the target, their source vertices
+  /// stay. For each folded face f, the k-ring of f (k = 1 ... 8) is projected onto the plane of the mean target
+  /// normal under it (only while every target normal there is within 72° of it), untangled there with its
+  /// outline and the feature vertices held (internal::Planar_untangler; reference shapes: the face's present
+  /// shape where it is well shaped and not folded, else an equilateral triangle of the region's mean area),
+  /// and lifted back onto the target along the plane's normal. The region is kept if no face around it is
+  /// flipped by the independent verifier's rule and every face of it stays within 0.9 ε of the target
+  /// (centroid and edge midpoints, closest points); otherwise it is restored and the next k is tried.
+  void untangle_folds() {
+    Target_tree tree(CGAL::faces(T_.m).first, CGAL::faces(T_.m).second, T_.m);
+    tree.accelerate_distance_queries();
+    const auto& m = S_.m;
+    std::vector<char> moved(m.number_of_vertices(), 0);
+    for (internal::WF f : m.faces()) {
+      if (!folded_[f] || !flipped_on_target(tree, f)) continue;
+      for (int k = 1; k <= 8; ++k) {
+        const int r = untangle_region(tree, f, k, moved);
+        if (r > 0) ++stats_.untangled_folds;
+        if (r != 0) break;
+      }
+    }
+    // Faces with a moved corner are counted by the verifier's rule, the others as measure() found them.
+    flipped_ = 0;
+    for (internal::WF f : m.faces()) {
+      bool touched = false;
+      for (internal::WV v : CGAL::vertices_around_face(m.halfedge(f), m)) touched = touched || moved[v];
+      if (touched) folded_[f] = flipped_on_target(tree, f);
+      flipped_ += folded_[f];
+    }
+    for (char c : moved) stats_.untangle_moves += c;
+  }
+
+  /// One try of untangle_folds() on the k-ring of f0: 1 if kept, 0 if not (a larger k may work), -1 if the
+  /// region has become too curved for a planar chart.
+  int untangle_region(const Target_tree& tree, internal::WF f0, int k, std::vector<char>& moved) {
+    const auto& m = S_.m;
+    std::set<internal::WF> region{f0};
+    std::set<internal::WV> ring;
+    for (internal::WV v : CGAL::vertices_around_face(m.halfedge(f0), m)) ring.insert(v);
+    for (int r = 0; r < k; ++r) {
+      std::set<internal::WV> grown = ring;
+      for (internal::WV v : ring)
+        for (internal::WF f : CGAL::faces_around_target(m.halfedge(v), m)) {
+          region.insert(f);
+          for (internal::WV w : CGAL::vertices_around_face(m.halfedge(f), m)) grown.insert(w);
+        }
+      ring = std::move(grown);
+    }
+    std::map<internal::WV, int> id;
+    std::vector<internal::WV> verts;
+    for (internal::WF f : region)
+      for (internal::WV v : CGAL::vertices_around_face(m.halfedge(f), m))
+        if (id.emplace(v, int(verts.size())).second) verts.push_back(v);
+    // The chart: the plane of the mean target normal under the region's vertices.
+    auto unit_normal = [this](internal::WF f) {
+      const Kernel::Vector_3 n = target_normal(f);
+      return n / std::sqrt(n * n);
+    };
+    Kernel::Vector_3 normal(0, 0, 0);
+    for (internal::WV v : verts) normal = normal + unit_normal(img_[v].face);
+    normal = normal / std::sqrt(normal * normal);
+    for (internal::WV v : verts)
+      if (unit_normal(img_[v].face) * normal < 0.3) return -1;
+    const Kernel::Vector_3 u0 = std::abs(normal.x()) < 0.9 ? Kernel::Vector_3(1, 0, 0) : Kernel::Vector_3(0, 1, 0);
+    Kernel::Vector_3 U = CGAL::cross_product(normal, u0);
+    U = U / std::sqrt(U * U);
+    const Kernel::Vector_3 W = CGAL::cross_product(normal, U);
+    const Point_3 origin = pos_[verts[0]];
+    std::vector<Eigen::Vector2d> xy;
+    std::vector<char> is_free;
+    std::size_t n_free = 0;
+    for (internal::WV v : verts) {
+      xy.emplace_back((pos_[v] - origin) * U, (pos_[v] - origin) * W);
+      bool inner = S_.vfeature[v] == internal::no_feature;
+      for (internal::WF f : CGAL::faces_around_target(m.halfedge(v), m)) inner = inner && region.count(f) > 0;
+      is_free.push_back(inner);
+      n_free += inner;
+    }
+    auto corners = [&](internal::WF f) {
+      std::array<int, 3> c;
+      int i = 0;
+      for (internal::WV v : CGAL::vertices_around_face(m.halfedge(f), m)) c[i++] = id[v];
+      return c;
+    };
+    double area = 0;
+    for (internal::WF f : region) {
+      const auto c = corners(f);
+      area += 0.5 * edge_matrix_of(xy, c).determinant();
+    }
+    if (n_free == 0 || !(area > 0)) return 0;
+    // Reference shapes; a face whose corners are all held must already be positive.
+    const double side = std::sqrt(4 * area / double(region.size()) / std::sqrt(3.0));
+    Eigen::Matrix2d equilateral;
+    equilateral << side, side / 2, 0, side * std::sqrt(3.0) / 2;
+    std::vector<internal::Untangle_triangle> tris;
+    for (internal::WF f : region) {
+      const auto c = corners(f);
+      const Eigen::Matrix2d e = edge_matrix_of(xy, c);
+      if (!is_free[c[0]] && !is_free[c[1]] && !is_free[c[2]] && !(e.determinant() > 0)) return 0;
+      const double longest2 = std::max({e.col(0).squaredNorm(), e.col(1).squaredNorm(), (e.col(1) - e.col(0)).squaredNorm()});
+      const bool good = e.determinant() > 0.2 * std::sqrt(3.0) / 4 * longest2 && !face_folded(f);
+      tris.push_back({c, (good ? e : equilateral).inverse()});
+    }
+    internal::Planar_untangler untangler(xy, is_free, std::move(tris));
+    if (!(untangler.run(0.3 * side) > 0)) return 0;
+    // Lift the moved vertices onto the target along the normal (the hit nearest the plane point).
+    std::vector<std::pair<internal::WV, Corner>> old;
+    bool lifted = true;
+    for (std::size_t i = 0; i < verts.size() && lifted; ++i) {
+      if (!is_free[i]) continue;
+      const internal::WV v = verts[i];
+      const Eigen::Vector2d d = untangler.point(i) - xy[i];
+      const Point_3 g = pos_[v] + d.x() * U + d.y() * W;
+      std::vector<typename Target_tree::template Intersection_and_primitive_id<Kernel::Line_3>::Type> hits;
+      tree.all_intersections(Kernel::Line_3(g, normal), std::back_inserter(hits));
+      double best = HUGE_VAL;
+      internal::Work_location at;
+      Point_3 q;
+      for (const auto& hit : hits)
+        if (const Point_3* p = boost::get<Point_3>(&hit.first)) {
+          const double d2 = CGAL::squared_distance(*p, g);
+          if (d2 < best) best = d2, q = *p, at = location_in(hit.second, *p);
+        }
+      old.emplace_back(v, corner(v));
+      if (!(best < HUGE_VAL)) lifted = false;
+      else img_[v] = at, pos_[v] = target_point(at);
+    }
+    auto restore = [&] {
+      for (const auto& o : old) img_[o.first] = o.second.img, pos_[o.first] = o.second.pos;
+    };
+    if (!lifted) return restore(), 0;
+    // Keep it only if nothing around the region is flipped and the region follows the target.
+    std::set<internal::WF> around;
+    for (internal::WV v : verts)
+      for (internal::WF f : CGAL::faces_around_target(m.halfedge(v), m))
+        if (f != internal::WF()) around.insert(f);
+    for (internal::WF f : around)
+      if (flipped_on_target(tree, f)) return restore(), 0;
+    const double bound2 = CGAL::square(0.9 * eps_);
+    for (internal::WF f : region) {
+      const internal::WH h = m.halfedge(f);
+      const Point_3 &a = pos_[m.source(h)], &b = pos_[m.target(h)], &c = pos_[m.target(m.next(h))];
+      for (const Point_3& p : {CGAL::centroid(a, b, c), CGAL::midpoint(a, b), CGAL::midpoint(b, c), CGAL::midpoint(c, a)})
+        if (tree.squared_distance(p) > bound2) return restore(), 0;
+    }
+    for (const auto& o : old) {
+      moved[o.first] = 1;
+      stats_.untangle_max_move =
+          std::max(stats_.untangle_max_move, 100 * std::sqrt(CGAL::squared_distance(o.second.pos, pos_[o.first])));
+    }
+    return 1;
+  }
+  static Eigen::Matrix2d edge_matrix_of(const std::vector<Eigen::Vector2d>& xy, const std::array<int, 3>& c) {
+    return internal::edge_matrix(xy[c[0]], xy[c[1]], xy[c[2]]);
+  }
+  /// The location on target face f of point p (on f's plane): barycentric coordinates from sub-areas.
+  internal::Work_location location_in(internal::WF f, const Point_3& p) const {
+    const auto& t = T_.m;
+    const internal::WH h = t.halfedge(f);
+    const Point_3 &a = t.point(t.source(h)), &b = t.point(t.target(h)), &c = t.point(t.target(t.next(h)));
+    const Kernel::Vector_3 n = CGAL::cross_product(b - a, c - a);
+    std::array<double, 3> w{CGAL::cross_product(c - b, p - b) * n, CGAL::cross_product(a - c, p - c) * n,
+                            CGAL::cross_product(b - a, p - a) * n};
+    double sum = 0;
+    for (double& x : w) sum += (x = std::max(0.0, x));
+    if (!(sum > 0)) w = {1.0 / 3, 1.0 / 3, 1.0 / 3}, sum = 1;
+    for (double& x : w) x /= sum;
+    return {f, w};
+  }
+
   void build_outputs() {
     const auto& m = S_.m;
     faces_.clear();
@@ -1111,6 +1321,7 @@ private:
   std::vector<double> edge_error_;           ///< Eq. 2 per source edge
   std::vector<double> edge_chord_;           ///< per source edge: M_st's edge midpoint's distance from F(midpoint)
   std::vector<double> face_chord_;           ///< per source face: M_st's centroid's distance from F(centroid)
+  std::vector<char> folded_;                 ///< per source face: M_st's face flipped against the target
   std::vector<internal::Work_location> pre_; ///< per target vertex: its preimage on the source, F^-1(v)
   /// What measure() located on the target (corner_at() of a base location), by vertex, edge midpoint and face
   /// centroid, with what it depends on.
