@@ -1172,7 +1172,9 @@ private:
     };
     Kernel::Vector_3 normal(0, 0, 0);
     for (internal::WV v : verts) normal = normal + unit_normal(img_[v].face);
-    normal = normal / std::sqrt(normal * normal);
+    const double length = std::sqrt(normal * normal);
+    if (!(length > 0)) return -1; // normals that cancel out: no plane to project on
+    normal = normal / length;
     for (internal::WV v : verts)
       if (unit_normal(img_[v].face) * normal < 0.3) return -1;
     const Kernel::Vector_3 u0 = std::abs(normal.x()) < 0.9 ? Kernel::Vector_3(1, 0, 0) : Kernel::Vector_3(0, 1, 0);
@@ -1229,11 +1231,10 @@ private:
       tree.all_intersections(Kernel::Line_3(g, normal), std::back_inserter(hits));
       double best = HUGE_VAL;
       internal::Work_location at;
-      Point_3 q;
       for (const auto& hit : hits)
-        if (const Point_3* p = boost::get<Point_3>(&hit.first)) {
+        if (const Point_3* p = boost::get<Point_3>(&hit.first)) { // (a segment: the line lies in a target face)
           const double d2 = CGAL::squared_distance(*p, g);
-          if (d2 < best) best = d2, q = *p, at = location_in(hit.second, *p);
+          if (d2 < best) best = d2, at = location_in(hit.second, *p);
         }
       old.emplace_back(v, corner(v));
       if (!(best < HUGE_VAL)) lifted = false;

@@ -130,11 +130,11 @@ private:
       if (!(largest > 0)) return;
       double step = std::min(1.0, max_step / largest), en = 0;
       bool decreased = false;
-      for (int k = 0; k < 80 && !decreased; ++k, step *= 0.5) {
+      for (int k = 0; k < 80 && !decreased; ++k) { // Armijo backtracking
         xn = x_ + step * d;
         en = energy(xn, eps, &gn);
         decreased = en <= e + 1e-4 * step * d.dot(g);
-        if (decreased) break;
+        if (!decreased) step *= 0.5;
       }
       if (!decreased) return;
       const Eigen::VectorXd s = xn - x_, y = gn - g;
