@@ -463,8 +463,7 @@ private:
     // normal opposes the target's under each corner and under the centroid.
     face_chord_.assign(nf, 0.0);
     mc.centroid.resize(nf);
-    std::vector<char>& folded = folded_;
-    folded.assign(nf, 0);
+    folded_.assign(nf, 0);
     internal::parallel_for(nf, threads_, [&](std::size_t i) {
       const internal::WF f{internal::WF::size_type(i)};
       internal::WH h = ms.halfedge(f);
@@ -476,13 +475,13 @@ private:
         check_reused(mc.centroid[f]);
       }
       face_chord_[f] = std::sqrt(CGAL::squared_distance(CGAL::centroid(a, b, c), mc.centroid[f].pos));
-      folded[i] = flipped(a, img_[x].face, b, img_[y].face, c, img_[z].face) &&
+      folded_[i] = flipped(a, img_[x].face, b, img_[y].face, c, img_[z].face) &&
                   internal::triangle_normal(a, b, c) * target_normal(mc.centroid[f].img.face) < 0;
     });
     flipped_ = 0;
     for (std::size_t i = 0; i < nf; ++i) {
       max_chord_ = std::max(max_chord_, face_chord_[i]);
-      flipped_ += folded[i];
+      flipped_ += folded_[i];
     }
     mc.valid_edges = ne;
     mc.valid_faces = nf;
@@ -1096,18 +1095,13 @@ private:
 
   using Target_tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, CGAL::AABB_face_graph_triangle_primitive<internal::Work_mesh>>>;
 
-  /// Whether triangle (a, b, c) is flipped by the rule of the independent verifier: its normal opposes the
-  /// target's at the points of the target nearest its centroid and each corner.
-  bool flipped_on_target(const Target_tree& tree, const Point_3& a, const Point_3& b, const Point_3& c) const {
-    const Kernel::Vector_3 n = internal::triangle_normal(a, b, c);
-    for (const Point_3& p : {CGAL::centroid(a, b, c), a, b, c})
-      if (!(n * target_normal(tree.closest_point_and_primitive(p).second) < 0)) return false;
-    return true;
-  }
+  /// Whether face f of M_st is flipped by the rule of the independent verifier (internal::flipped_against_nearest):
+  /// its normal opposes the target's at the points of the target nearest its centroid and each corner.
   bool flipped_on_target(const Target_tree& tree, internal::WF f) const {
     const auto& m = S_.m;
     const internal::WH h = m.halfedge(f);
-    return flipped_on_target(tree, pos_[m.source(h)], pos_[m.target(h)], pos_[m.target(m.next(h))]);
+    return internal::flipped_against_nearest(tree, [this](internal::WF g) { return target_normal(g); },
+                                             pos_[m.source(h)], pos_[m.target(h)], pos_[m.target(m.next(h))]);
   }
 
   /// Untangling on the target (an addition to the paper), for the folds that the fold repair could not remove.

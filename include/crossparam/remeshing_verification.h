@@ -95,25 +95,18 @@ Remeshing_verification verify_compatible_remeshing(const Mesh& src, const Mesh& 
   Tree tree(faces(tgt).first, faces(tgt).second, tgt);
   tree.accelerate_distance_queries();
   // A face is flipped if its normal opposes the target's at the points nearest its centroid and its corners
-  // (a face across a sharp crease of the target agrees with one side: a chord, not a flip).
+  // (internal::flipped_against_nearest; a face across a sharp crease agrees with one side: a chord, not a flip).
+  auto target_normal = [&tgt](auto f) {
+    auto g = halfedge(f, tgt);
+    return internal::triangle_normal(get(CGAL::vertex_point, tgt, source(g, tgt)), get(CGAL::vertex_point, tgt, target(g, tgt)),
+                                     get(CGAL::vertex_point, tgt, target(next(g, tgt), tgt)));
+  };
   for (auto f : faces(out_target)) {
     auto h = halfedge(f, out_target);
-    const auto &a = get(CGAL::vertex_point, out_target, source(h, out_target)),
-               &b = get(CGAL::vertex_point, out_target, target(h, out_target)),
-               &c = get(CGAL::vertex_point, out_target, target(next(h, out_target), out_target));
-    const auto n = internal::triangle_normal(a, b, c);
-    bool flipped = true;
-    for (const auto& p : {CGAL::centroid(a, b, c), a, b, c}) {
-      const auto hit = tree.closest_point_and_primitive(p);
-      auto g = halfedge(hit.second, tgt);
-      const auto nt = internal::triangle_normal(get(CGAL::vertex_point, tgt, source(g, tgt)), get(CGAL::vertex_point, tgt, target(g, tgt)),
-                                                get(CGAL::vertex_point, tgt, target(next(g, tgt), tgt)));
-      if (!(n * nt < 0)) {
-        flipped = false;
-        break;
-      }
-    }
-    if (flipped) ++r.flipped_faces;
+    if (internal::flipped_against_nearest(tree, target_normal, get(CGAL::vertex_point, out_target, source(h, out_target)),
+                                          get(CGAL::vertex_point, out_target, target(h, out_target)),
+                                          get(CGAL::vertex_point, out_target, target(next(h, out_target), out_target))))
+      ++r.flipped_faces;
   }
   r.valid = r.compatible && r.hausdorff_target <= tolerance && r.hausdorff_source <= source_bound &&
             r.flipped_faces == 0;
