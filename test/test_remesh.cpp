@@ -13,6 +13,7 @@
 #include "bench_cases.h"
 
 #include <iostream>
+#include <set>
 
 using namespace crossparam;
 using Map = Cross_parameterization<Surface_mesh, Surface_mesh>;
@@ -222,9 +223,64 @@ TEST(Untangle, ReportsWhenNoEmbeddingExists) {
   EXPECT_LE(u.run(0.05), 0);
 }
 
+// The disk chart behind the untangling on the surface (internal/disk_chart.h). On a torus, a disk grown around
+// a point of the tube stays a topological disk however far it grows (it cannot close around the tube or the
+// hole), its flattening is one-to-one (every face positive, exact predicate), the normal cone keeps it on the
+// side facing out, and points go to the chart and back unchanged.
+TEST(DiskChart, TorusPatchIsAOneToOneDisk) {
+  const Surface_mesh t = shapes::make_torus(1.0, 0.35, 48, 24);
+  internal::WF seed;
+  double best = -HUGE_VAL;
+  Point_3 center;
+  for (internal::WF f : t.faces()) {
+    const auto h = t.halfedge(f);
+    const Point_3 c = CGAL::centroid(t.point(t.source(h)), t.point(t.target(h)), t.point(t.target(t.next(h))));
+    if (c.x() > best) best = c.x(), seed = f, center = c;
+  }
+  const auto h0 = t.halfedge(seed);
+  Kernel::Vector_3 direction = internal::triangle_normal(t.point(t.source(h0)), t.point(t.target(h0)), t.point(t.target(t.next(h0))));
+  direction = direction / std::sqrt(direction * direction);
+  for (double radius : {0.3, 1.0, 10.0})
+    for (double min_cosine : {-2.0, 0.2}) {
+      SCOPED_TRACE("radius " + std::to_string(radius) + ", min cosine " + std::to_string(min_cosine));
+      const auto chart = internal::Disk_chart::grow(t, {seed}, center, radius, direction, min_cosine);
+      ASSERT_TRUE(chart);
+      const auto& faces = chart->faces();
+      EXPECT_TRUE(chart->contains(seed));
+      EXPECT_LT(faces.size(), t.number_of_faces());
+      std::set<std::size_t> vertices, edges;
+      for (internal::WF f : faces)
+        for (auto h : CGAL::halfedges_around_face(t.halfedge(f), t)) vertices.insert(t.target(h)), edges.insert(t.edge(h));
+      EXPECT_EQ(long(vertices.size()) - long(edges.size()) + long(faces.size()), 1); // a disk
+      std::size_t off_cone = 0;
+      for (internal::WF f : faces) {
+        std::array<Kernel::Point_2, 3> q;
+        for (int i = 0; i < 3; ++i) {
+          std::array<double, 3> b{0, 0, 0};
+          b[i] = 1;
+          const Eigen::Vector2d p = chart->at(t, {f, b});
+          q[i] = Kernel::Point_2(p.x(), p.y());
+        }
+        EXPECT_EQ(CGAL::orientation(q[0], q[1], q[2]), CGAL::POSITIVE);
+        const auto h = t.halfedge(f);
+        const auto n = internal::triangle_normal(t.point(t.source(h)), t.point(t.target(h)), t.point(t.target(t.next(h))));
+        off_cone += n * direction < min_cosine * std::sqrt(n * n);
+        const internal::Work_location l{f, {0.2, 0.3, 0.5}};
+        internal::Work_location back;
+        ASSERT_TRUE(chart->locate(t, chart->at(t, l), back));
+        EXPECT_LT(CGAL::squared_distance(internal::point_at(t, l), internal::point_at(t, back)), 1e-20);
+      }
+      EXPECT_EQ(off_cone, 0u);
+      if (radius == 10.0 && min_cosine < -1) {
+        EXPECT_GT(faces.size(), t.number_of_faces() / 2);
+      }
+      internal::Work_location outside;
+      EXPECT_FALSE(chart->locate(t, Eigen::Vector2d(2, 0), outside)); // beyond the unit disk
+    }
+}
+
 // The bench cases of ../shared: outputs compatible, the source side exact, the remeshed parameterization
-// certified, the target side within the tolerance (independent Hausdorff distance), and no flipped face
-// (except one, still, on shrec_381_382).
+// certified, the target side within the tolerance (independent Hausdorff distance), and no flipped face.
 class BenchRemesh : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(BenchRemesh, CompatibleAndClose) {
@@ -238,22 +294,22 @@ TEST_P(BenchRemesh, CompatibleAndClose) {
   EXPECT_LE(o.check.hausdorff_source, 1e-6);
   EXPECT_LT(o.stats.l2_error, 0.4);
   EXPECT_LT(o.stats.l2_error, o.stats.l2_error_initial);
-  // Today's figures (manual §10.5): Hausdorff 0.44-0.48 % against the tolerance 0.5 %; no flipped face on
-  // five cases, 1 on shrec_381_382; 16-55 % added vertices.
+  // Today's figures (manual §10.5): Hausdorff 0.44-0.48 % against the tolerance 0.5 %; no flipped face;
+  // 16-55 % added vertices.
   EXPECT_LE(o.check.hausdorff_target, 0.5) << o.check.message;
-  EXPECT_LE(o.check.flipped_faces, GetParam() == "shrec_381_382" ? 1u : 0u);
-  if (GetParam() != "shrec_381_382") {
-    EXPECT_TRUE(o.check.valid) << o.check.message; // every criterion of the tolerance met
-  }
-  // The untangling on the target (the remesher's last step) removed yang_cat_horse's five folds, moving
-  // vertices of the target-shaped mesh along the target by less than 2 % of the diagonal.
+  EXPECT_EQ(o.check.flipped_faces, 0u);
+  EXPECT_TRUE(o.check.valid) << o.check.message; // every criterion of the tolerance met
+  // The untangling on the target (the remesher's last step) removed yang_cat_horse's five folds in planar
+  // rings, moving vertices of the target-shaped mesh along the target by less than 2 % of the diagonal, and
+  // shrec_381_382's two in a disk chart of the leg where F is squeezed (a larger region, moved further).
   if (GetParam() == "yang_cat_horse") {
     EXPECT_EQ(o.stats.untangled_folds, 5u);
     EXPECT_GT(o.stats.untangle_moves, 0u);
     EXPECT_LT(o.stats.untangle_max_move, 2.0);
   }
   if (GetParam() == "shrec_381_382") {
-    EXPECT_EQ(o.stats.untangled_folds, 1u);
+    EXPECT_EQ(o.stats.untangled_folds, 2u);
+    EXPECT_LT(o.stats.untangle_max_move, 7.0);
   }
   EXPECT_LT(double(o.stats.output_vertices), 1.65 * double(o.stats.source_vertices));
 }

@@ -18,6 +18,7 @@
 #define CROSSPARAM_COMPATIBLE_REMESHING_H
 
 #include <crossparam/cross_parameterization.h>
+#include <crossparam/internal/disk_chart.h>
 #include <crossparam/internal/parallel.h>
 #include <crossparam/internal/untangle.h>
 
@@ -1107,26 +1108,26 @@ private:
   /// Untangling on the target (an addition to the paper), for the folds that the fold repair could not remove.
   /// Where F is this anisotropic, no M_st that is F of a one-to-one M_s avoids the fold (§10.5 of the manual),
   /// so these vertices of the target-shaped mesh leave F: they move along the target, their source vertices
-  /// stay. For each folded face f, the k-ring of f (k = 1 ... 8) is projected onto the plane of the mean target
-  /// normal under it (only while every target normal there is within 72° of it), untangled there with its
-  /// outline and the feature vertices held (internal::Planar_untangler; reference shapes: the face's present
-  /// shape where it is well shaped and not folded, else an equilateral triangle of the region's mean area),
-  /// and lifted back onto the target along the plane's normal. The region is kept if no face around it is
-  /// flipped by the independent verifier's rule and every face of it stays within 0.9 ε of the target
-  /// (centroid and edge midpoints, closest points); otherwise it is restored and the next k is tried.
+  /// stay. Each folded face f is untangled in a chart of the target with the outline of a region around it
+  /// and the feature vertices held: first in the plane of the mean target normal under the k-ring of f
+  /// (k = 1 ... 8, while the ring is flat enough for a plane: untangle_ring()), then, if no ring works, in a
+  /// flattened disk of the target around f, which follows the target where it bends (untangle_on_surface()).
   void untangle_folds() {
     Target_tree tree(CGAL::faces(T_.m).first, CGAL::faces(T_.m).second, T_.m);
     tree.accelerate_distance_queries();
     const auto& m = S_.m;
     std::vector<char> moved(m.number_of_vertices(), 0);
-    for (internal::WF f : m.faces()) {
-      if (!folded_[f] || !flipped_on_target(tree, f)) continue;
-      for (int k = 1; k <= 8; ++k) {
-        const int r = untangle_region(tree, f, k, moved);
-        if (r > 0) ++stats_.untangled_folds;
-        if (r != 0) break;
-      }
+    std::vector<internal::WF> folds;
+    for (internal::WF f : m.faces())
+      if (folded_[f] && flipped_on_target(tree, f)) folds.push_back(f);
+    for (internal::WF f : folds) {
+      if (!flipped_on_target(tree, f)) continue; // untangled with an earlier one
+      int r = 0;
+      for (int k = 1; k <= 8 && r == 0; ++k) r = untangle_ring(tree, f, k, moved);
+      for (double size : {1.0, 1.5, 2.0})
+        if (r <= 0) r = untangle_on_surface(tree, f, size, moved);
     }
+    for (internal::WF f : folds) stats_.untangled_folds += !flipped_on_target(tree, f);
     // Faces with a moved corner are counted by the verifier's rule, the others as measure() found them.
     flipped_ = 0;
     for (internal::WF f : m.faces()) {
@@ -1138,9 +1139,11 @@ private:
     for (char c : moved) stats_.untangle_moves += c;
   }
 
-  /// One try of untangle_folds() on the k-ring of f0: 1 if kept, 0 if not (a larger k may work), -1 if the
-  /// region has become too curved for a planar chart.
-  int untangle_region(const Target_tree& tree, internal::WF f0, int k, std::vector<char>& moved) {
+  /// The planar chart: the k-ring of f0 projected onto the plane of the mean target normal under its vertices
+  /// (only while every target normal there is within 72° of it), untangled from the present positions, moved
+  /// points lifted back onto the target along the plane's normal (the hit nearest the plane point). 1 if
+  /// kept, 0 if not (a larger k may work), -1 if the ring has become too curved for a plane.
+  int untangle_ring(const Target_tree& tree, internal::WF f0, int k, std::vector<char>& moved) {
     const auto& m = S_.m;
     std::set<internal::WF> region{f0};
     std::set<internal::WV> ring;
@@ -1154,33 +1157,128 @@ private:
         }
       ring = std::move(grown);
     }
-    std::map<internal::WV, int> id;
-    std::vector<internal::WV> verts;
-    for (internal::WF f : region)
-      for (internal::WV v : CGAL::vertices_around_face(m.halfedge(f), m))
-        if (id.emplace(v, int(verts.size())).second) verts.push_back(v);
-    // The chart: the plane of the mean target normal under the region's vertices.
     auto unit_normal = [this](internal::WF f) {
       const Kernel::Vector_3 n = target_normal(f);
       return n / std::sqrt(n * n);
     };
     Kernel::Vector_3 normal(0, 0, 0);
-    for (internal::WV v : verts) normal = normal + unit_normal(img_[v].face);
+    for (internal::WV v : ring) normal = normal + unit_normal(img_[v].face);
     const double length = std::sqrt(normal * normal);
     if (!(length > 0)) return -1; // normals that cancel out: no plane to project on
     normal = normal / length;
-    for (internal::WV v : verts)
+    for (internal::WV v : ring)
       if (unit_normal(img_[v].face) * normal < 0.3) return -1;
     const Kernel::Vector_3 u0 = std::abs(normal.x()) < 0.9 ? Kernel::Vector_3(1, 0, 0) : Kernel::Vector_3(0, 1, 0);
     Kernel::Vector_3 U = CGAL::cross_product(normal, u0);
     U = U / std::sqrt(U * U);
     const Kernel::Vector_3 W = CGAL::cross_product(normal, U);
-    const Point_3 origin = pos_[verts[0]];
+    const Point_3 origin = pos_[*ring.begin()];
+    auto to_chart = [&](internal::WV v) { return Eigen::Vector2d((pos_[v] - origin) * U, (pos_[v] - origin) * W); };
+    auto from_chart = [&](internal::WV v, const Eigen::Vector2d& p, internal::Work_location& at) {
+      const Eigen::Vector2d d = p - to_chart(v);
+      const Point_3 g = pos_[v] + d.x() * U + d.y() * W;
+      std::vector<typename Target_tree::template Intersection_and_primitive_id<Kernel::Line_3>::Type> hits;
+      tree.all_intersections(Kernel::Line_3(g, normal), std::back_inserter(hits));
+      double best = HUGE_VAL;
+      for (const auto& hit : hits)
+        if (const Point_3* q = boost::get<Point_3>(&hit.first)) { // (a segment: the line lies in a target face)
+          const double d2 = CGAL::squared_distance(*q, g);
+          if (d2 < best) best = d2, at = location_in(hit.second, *q);
+        }
+      return best < HUGE_VAL;
+    };
+    return untangle_in_chart(tree, region, to_chart, from_chart, false, moved);
+  }
+
+  /// The surface chart, for a fold inside a tangle too large or too curved for a planar ring (a fan of needles
+  /// along a limb where F is squeezed): a disk of the target grown around f0 to `size` times f0's longest
+  /// edge, over the faces within 78° of the target normal under f0 (the front of a limb, not around it), and
+  /// flattened (internal::Disk_chart). The region is the connected set of faces around f0 whose corners lie on
+  /// the disk and within 0.8 of its radius. Its inner vertices are laid out afresh by mean-value coordinates
+  /// of the *source* shape (a local cross-parameterization of the source patch into the chart) and
+  /// untangled, and they map back through the flattening, onto the target exactly. The chart's straight edges
+  /// are not the target's, so a few faces may still be flipped on the target: those are given to
+  /// untangle_ring(). Kept only if then no face around a vertex it moved is flipped; otherwise everything is
+  /// restored. 1 if kept, 0 if not.
+  int untangle_on_surface(const Target_tree& tree, internal::WF f0, double size, std::vector<char>& moved) {
+    const auto& m = S_.m;
+    const internal::WH h0 = longest_edge(f0);
+    const double radius = size * std::sqrt(CGAL::squared_distance(pos_[m.source(h0)], pos_[m.target(h0)]));
+    const Point_3 center = CGAL::centroid(pos_[m.source(h0)], pos_[m.target(h0)], pos_[m.target(m.next(h0))]);
+    std::vector<internal::WF> seeds;
+    Kernel::Vector_3 direction(0, 0, 0);
+    for (internal::WV v : CGAL::vertices_around_face(h0, m)) {
+      seeds.push_back(img_[v].face);
+      const Kernel::Vector_3 n = target_normal(img_[v].face);
+      direction = direction + n / std::sqrt(n * n);
+    }
+    if (!(direction * direction > 0)) return 0;
+    direction = direction / std::sqrt(direction * direction);
+    const std::optional<internal::Disk_chart> chart =
+        internal::Disk_chart::grow(T_.m, seeds, center, radius, direction, std::cos(78 * CGAL_PI / 180));
+    if (!chart) return 0;
+    auto inside = [&](internal::WF f) {
+      for (internal::WV v : CGAL::vertices_around_face(m.halfedge(f), m))
+        if (!chart->contains(img_[v].face) || CGAL::squared_distance(pos_[v], center) > CGAL::square(0.8 * radius))
+          return false;
+      return true;
+    };
+    if (!inside(f0)) return 0;
+    std::set<internal::WF> region{f0};
+    for (std::vector<internal::WF> todo{f0}; !todo.empty();) {
+      const internal::WF f = todo.back();
+      todo.pop_back();
+      for (internal::WH h : CGAL::halfedges_around_face(m.halfedge(f), m)) {
+        const internal::WF g = m.face(m.opposite(h));
+        if (g != internal::WF() && !region.count(g) && inside(g)) region.insert(g), todo.push_back(g);
+      }
+    }
+    auto to_chart = [&](internal::WV v) { return chart->at(T_.m, img_[v]); };
+    auto from_chart = [&](internal::WV, const Eigen::Vector2d& p, internal::Work_location& at) {
+      return chart->locate(T_.m, p, at);
+    };
+    const std::vector<internal::Work_location> img_before = img_;
+    const std::vector<Point_3> pos_before = pos_;
+    const std::vector<char> moved_before = moved;
+    const double max_move_before = stats_.untangle_max_move;
+    if (untangle_in_chart(tree, region, to_chart, from_chart, true, moved) <= 0) return 0;
+    for (internal::WF f : region)
+      if (flipped_on_target(tree, f))
+        for (int k = 1, r = 0; k <= 8 && r == 0; ++k) r = untangle_ring(tree, f, k, moved);
+    for (std::size_t i = 0; i < moved.size(); ++i)
+      if (moved[i] && !moved_before[i])
+        for (internal::WF f : CGAL::faces_around_target(m.halfedge(internal::WV(i)), m))
+          if (flipped_on_target(tree, f)) {
+            img_ = img_before, pos_ = pos_before, moved = moved_before, stats_.untangle_max_move = max_move_before;
+            return 0;
+          }
+    return 1;
+  }
+
+  /// What both charts share: the region's vertices are placed in the chart (`to_chart(v)`); the inner ones
+  /// (not features, every face around them in the region) are free, the others held. With `relayout`, the
+  /// free ones first get the mean-value layout of the source shape. They are moved by
+  /// internal::Planar_untangler (reference shapes: a face's present shape where it is well shaped and not
+  /// folded, else an equilateral triangle of the region's mean area; faces with no free corner cannot change
+  /// and are left out) and mapped back onto the target (`from_chart(v, p, location)`, false if it cannot).
+  /// The region is kept if every face of it stays within 0.9 ε of the target (centroid and edge midpoints,
+  /// closest points) and, unless `relayout` (whose caller finishes and checks the region), if the untangler
+  /// left no triangle inverted and none of the faces it moved is flipped by the independent verifier's rule;
+  /// otherwise it is restored. 1 if kept, 0 if not.
+  template <class ToChart, class FromChart>
+  int untangle_in_chart(const Target_tree& tree, const std::set<internal::WF>& region, const ToChart& to_chart,
+                        const FromChart& from_chart, bool relayout, std::vector<char>& moved) {
+    const auto& m = S_.m;
+    std::map<internal::WV, int> id;
+    std::vector<internal::WV> verts;
+    for (internal::WF f : region)
+      for (internal::WV v : CGAL::vertices_around_face(m.halfedge(f), m))
+        if (id.emplace(v, int(verts.size())).second) verts.push_back(v);
     std::vector<Eigen::Vector2d> xy;
     std::vector<char> is_free;
     std::size_t n_free = 0;
     for (internal::WV v : verts) {
-      xy.emplace_back((pos_[v] - origin) * U, (pos_[v] - origin) * W);
+      xy.push_back(to_chart(v));
       bool inner = S_.vfeature[v] == internal::no_feature;
       for (internal::WF f : CGAL::faces_around_target(m.halfedge(v), m)) inner = inner && region.count(f) > 0;
       is_free.push_back(inner);
@@ -1192,65 +1290,48 @@ private:
       for (internal::WV v : CGAL::vertices_around_face(m.halfedge(f), m)) c[i++] = id[v];
       return c;
     };
+    auto moves = [&](const std::array<int, 3>& c) { return is_free[c[0]] || is_free[c[1]] || is_free[c[2]]; };
     double area = 0;
-    for (internal::WF f : region) {
-      const auto c = corners(f);
-      area += 0.5 * edge_matrix_of(xy, c).determinant();
-    }
+    for (internal::WF f : region) area += 0.5 * edge_matrix_of(xy, corners(f)).determinant();
     if (n_free == 0 || !(area > 0)) return 0;
-    // Reference shapes; a face whose corners are all held must already be positive.
+    if (relayout) {
+      std::vector<char> held(is_free.size());
+      for (std::size_t i = 0; i < held.size(); ++i) held[i] = !is_free[i];
+      if (!internal::mean_value_layout(m, verts, [&](internal::WV v) { return id.at(v); }, held, xy)) return 0;
+    }
     const double side = std::sqrt(4 * area / double(region.size()) / std::sqrt(3.0));
     Eigen::Matrix2d equilateral;
     equilateral << side, side / 2, 0, side * std::sqrt(3.0) / 2;
     std::vector<internal::Untangle_triangle> tris;
     for (internal::WF f : region) {
       const auto c = corners(f);
+      if (!moves(c)) continue;
       const Eigen::Matrix2d e = edge_matrix_of(xy, c);
-      if (!is_free[c[0]] && !is_free[c[1]] && !is_free[c[2]] && !(e.determinant() > 0)) return 0;
       const double longest2 = std::max({e.col(0).squaredNorm(), e.col(1).squaredNorm(), (e.col(1) - e.col(0)).squaredNorm()});
       const bool good = e.determinant() > 0.2 * std::sqrt(3.0) / 4 * longest2 && !face_folded(f);
       tris.push_back({c, (good ? e : equilateral).inverse()});
     }
     internal::Planar_untangler untangler(xy, is_free, std::move(tris));
-    if (!(untangler.run(0.3 * side) > 0)) return 0;
-    // Lift the moved vertices onto the target along the normal (the hit nearest the plane point).
+    if (!(untangler.run(0.3 * side) > 0) && !relayout) return 0;
     std::vector<std::pair<internal::WV, Corner>> old;
-    bool lifted = true;
-    for (std::size_t i = 0; i < verts.size() && lifted; ++i) {
-      if (!is_free[i]) continue;
-      const internal::WV v = verts[i];
-      const Eigen::Vector2d d = untangler.point(i) - xy[i];
-      const Point_3 g = pos_[v] + d.x() * U + d.y() * W;
-      std::vector<typename Target_tree::template Intersection_and_primitive_id<Kernel::Line_3>::Type> hits;
-      tree.all_intersections(Kernel::Line_3(g, normal), std::back_inserter(hits));
-      double best = HUGE_VAL;
-      internal::Work_location at;
-      for (const auto& hit : hits)
-        if (const Point_3* p = boost::get<Point_3>(&hit.first)) { // (a segment: the line lies in a target face)
-          const double d2 = CGAL::squared_distance(*p, g);
-          if (d2 < best) best = d2, at = location_in(hit.second, *p);
-        }
-      old.emplace_back(v, corner(v));
-      if (!(best < HUGE_VAL)) lifted = false;
-      else img_[v] = at, pos_[v] = target_point(at);
-    }
     auto restore = [&] {
       for (const auto& o : old) img_[o.first] = o.second.img, pos_[o.first] = o.second.pos;
     };
-    if (!lifted) return restore(), 0;
-    // Keep it only if nothing around the region is flipped and the region follows the target.
-    std::set<internal::WF> around;
-    for (internal::WV v : verts)
-      for (internal::WF f : CGAL::faces_around_target(m.halfedge(v), m))
-        if (f != internal::WF()) around.insert(f);
-    for (internal::WF f : around)
-      if (flipped_on_target(tree, f)) return restore(), 0;
+    for (std::size_t i = 0; i < verts.size(); ++i) {
+      if (!is_free[i]) continue;
+      internal::Work_location at;
+      if (!from_chart(verts[i], untangler.point(i), at)) return restore(), 0;
+      old.emplace_back(verts[i], corner(verts[i]));
+      img_[verts[i]] = at, pos_[verts[i]] = target_point(at);
+    }
+    // Keep it only if the region follows the target and nothing it moved is flipped.
     const double bound2 = CGAL::square(0.9 * eps_);
     for (internal::WF f : region) {
       const internal::WH h = m.halfedge(f);
       const Point_3 &a = pos_[m.source(h)], &b = pos_[m.target(h)], &c = pos_[m.target(m.next(h))];
       for (const Point_3& p : {CGAL::centroid(a, b, c), CGAL::midpoint(a, b), CGAL::midpoint(b, c), CGAL::midpoint(c, a)})
         if (tree.squared_distance(p) > bound2) return restore(), 0;
+      if (!relayout && moves(corners(f)) && flipped_on_target(tree, f)) return restore(), 0;
     }
     for (const auto& o : old) {
       moved[o.first] = 1;
