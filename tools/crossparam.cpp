@@ -542,11 +542,16 @@ std::function<void(const std::string&)> progress_printer(const Options& o) {
   return [](const std::string& line) { std::cerr << line << "\n"; };
 }
 
+// The compatible remeshing of `cp` with the options' tolerance, progress lines and threads.
+Remesher remesh(const Options& o, const Map& cp) {
+  return Remesher(cp, crossparam::parameters::tolerance(o.tolerance, crossparam::parameters::progress(progress_printer(o),
+                      crossparam::parameters::number_of_threads(o.threads))));
+}
+
 int run_remesh(const Options& o) {
   Inputs in = read_inputs(o);
   Map cp = compute_map(o, in.source.mesh, in.target.mesh, in.features);
-  Remesher r(cp, crossparam::parameters::tolerance(o.tolerance, crossparam::parameters::progress(progress_printer(o),
-                 crossparam::parameters::number_of_threads(o.threads))));
+  const Remesher r = remesh(o, cp);
   write_remesh(o, cp, r, in.seconds);
   return 0;
 }
@@ -632,8 +637,7 @@ int run_demo(const Options& o) {
   Map cp = compute_map(o, a, b, f);
   write_layout(o, a, b, cp.layout(), {{"generate", gen_s}});
   write_map(o, cp, gen_s);
-  Remesher r(cp, crossparam::parameters::tolerance(o.tolerance, crossparam::parameters::progress(progress_printer(o),
-                 crossparam::parameters::number_of_threads(o.threads))));
+  const Remesher r = remesh(o, cp);
   write_remesh(o, cp, r, gen_s);
   // The morph sequence between the two compatible meshes.
   Polygon_soup sa, sb;

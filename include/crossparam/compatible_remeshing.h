@@ -1122,8 +1122,7 @@ private:
       if (folded_[f] && flipped_on_target(tree, f)) folds.push_back(f);
     for (internal::WF f : folds) {
       if (!flipped_on_target(tree, f)) continue; // untangled with an earlier one
-      int r = 0;
-      for (int k = 1; k <= 8 && r == 0; ++k) r = untangle_ring(tree, f, k, moved);
+      int r = untangle_in_rings(tree, f, moved);
       for (double size : {1.0, 1.5, 2.0})
         if (r <= 0) r = untangle_on_surface(tree, f, size, moved);
     }
@@ -1137,6 +1136,13 @@ private:
       flipped_ += folded_[f];
     }
     for (char c : moved) stats_.untangle_moves += c;
+  }
+
+  /// untangle_ring() for k = 1 ... 8 until a ring is kept (1) or too curved (-1); 0 if none is kept.
+  int untangle_in_rings(const Target_tree& tree, internal::WF f, std::vector<char>& moved) {
+    int r = 0;
+    for (int k = 1; k <= 8 && r == 0; ++k) r = untangle_ring(tree, f, k, moved);
+    return r;
   }
 
   /// The planar chart: the k-ring of f0 projected onto the plane of the mean target normal under its vertices
@@ -1243,8 +1249,7 @@ private:
     const double max_move_before = stats_.untangle_max_move;
     if (untangle_in_chart(tree, region, to_chart, from_chart, true, moved) <= 0) return 0;
     for (internal::WF f : region)
-      if (flipped_on_target(tree, f))
-        for (int k = 1, r = 0; k <= 8 && r == 0; ++k) r = untangle_ring(tree, f, k, moved);
+      if (flipped_on_target(tree, f)) untangle_in_rings(tree, f, moved);
     for (std::size_t i = 0; i < moved.size(); ++i)
       if (moved[i] && !moved_before[i])
         for (internal::WF f : CGAL::faces_around_target(m.halfedge(internal::WV(i)), m))

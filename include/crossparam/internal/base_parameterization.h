@@ -59,6 +59,49 @@ inline double mean_value_fallback(const Work_mesh& m) {
   return mean_edge > 0 ? 1.0 / mean_edge : 1.0;
 }
 
+/// Convex-combination layout (Tutte's, with Floater's mean-value weights of m's geometry): every vertex
+/// vertices[i] that is not `fixed` gets the point uv[i] that is the weighted mean of its neighbours',
+/// sum_j w_ij (uv_i - uv_j) = 0, one sparse LU solve for both coordinates. `slot(v)` is v's index in
+/// `vertices`; every neighbour of a vertex that is not fixed must have one. `vertex_factor`, if given,
+/// multiplies the weight of every edge pointing to a vertex. False if the solve fails.
+template <class Slot>
+bool mean_value_layout(const Work_mesh& m, const std::vector<WV>& vertices, const Slot& slot,
+                       const std::vector<char>& fixed, std::vector<Eigen::Vector2d>& uv,
+                       const std::vector<double>* vertex_factor = nullptr) {
+  const std::size_t n = vertices.size();
+  std::vector<int> unknown(n, -1);
+  int n_unknown = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (!fixed[i]) unknown[i] = n_unknown++;
+  if (n_unknown == 0) return true;
+  const double fallback = mean_value_fallback(m);
+  std::vector<Eigen::Triplet<double>> entries;
+  Eigen::MatrixX2d rhs = Eigen::MatrixX2d::Zero(n_unknown, 2);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (fixed[i]) continue;
+    const int r = unknown[i];
+    double diagonal = 0;
+    for (WH h : CGAL::halfedges_around_source(m.opposite(m.halfedge(vertices[i])), m)) {
+      double w = mean_value_weight(m, h, fallback);
+      if (vertex_factor) w *= (*vertex_factor)[m.target(h)];
+      const int j = slot(m.target(h));
+      diagonal += w;
+      if (fixed[j]) rhs.row(r) += w * uv[j].transpose();
+      else entries.emplace_back(r, unknown[j], -w);
+    }
+    entries.emplace_back(r, r, diagonal);
+  }
+  Eigen::SparseMatrix<double> A(n_unknown, n_unknown);
+  A.setFromTriplets(entries.begin(), entries.end());
+  Eigen::SparseLU<Eigen::SparseMatrix<double>> lu(A);
+  if (lu.info() != Eigen::Success) return false;
+  const Eigen::MatrixX2d x = lu.solve(rhs);
+  if (lu.info() != Eigen::Success || !x.allFinite()) return false;
+  for (std::size_t i = 0; i < n; ++i)
+    if (!fixed[i]) uv[i] = x.row(unknown[i]).transpose();
+  return true;
+}
+
 /// One mesh parameterized over the base mesh.
 struct Base_parameterization {
   const Base_mesh* base = nullptr;
@@ -162,48 +205,35 @@ struct Base_parameterization {
       row[v] = int(interior[t].size());
       interior[t].push_back(v);
     }
-    const double fallback = mean_value_fallback(m);
+    // Each patch: its interior vertices, then their neighbours on its boundary at their points of its frame.
+    std::vector<int> slot(m.number_of_vertices(), -1);
     for (std::size_t t = 0; t < B.tri.size(); ++t) {
       const auto& q = B.q[t];
-      const auto& vs = interior[t];
+      std::vector<WV> vs = interior[t];
       if (vs.empty()) continue;
-      const int n = int(vs.size());
-      std::vector<Eigen::Triplet<double>> trip;
-      Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, 2);
-      for (int r = 0; r < n; ++r) {
-        WV v = vs[r];
-        double sum = 0;
-        for (WH h : CGAL::halfedges_around_source(v, m)) {
-          double w = mean_value_weight(m, h, fallback);
-          WV u = m.target(h);
-          if (vertex_factor) w *= (*vertex_factor)[u];
-          sum += w;
-          if (row[u] >= 0) {
-            trip.emplace_back(r, row[u], -w);
-          } else {
-            std::array<double, 3> bx;
-            if (!B.convert(loc[u], int(t), bx))
-              throw Algorithm_error("internal error: a patch boundary vertex is off its base triangle");
-            rhs(r, 0) += w * (bx[0] * q[0].x() + bx[1] * q[1].x() + bx[2] * q[2].x());
-            rhs(r, 1) += w * (bx[0] * q[0].y() + bx[1] * q[1].y() + bx[2] * q[2].y());
-          }
+      std::vector<Eigen::Vector2d> uv(vs.size());
+      std::vector<char> held(vs.size(), 0);
+      for (WV v : vs) slot[v] = row[v];
+      for (std::size_t r = 0; r < interior[t].size(); ++r)
+        for (WH h : CGAL::halfedges_around_source(interior[t][r], m)) {
+          const WV u = m.target(h);
+          if (row[u] >= 0 || slot[u] >= 0) continue;
+          std::array<double, 3> bx;
+          if (!B.convert(loc[u], int(t), bx))
+            throw Algorithm_error("internal error: a patch boundary vertex is off its base triangle");
+          slot[u] = int(vs.size());
+          vs.push_back(u);
+          uv.emplace_back(bx[0] * q[0].x() + bx[1] * q[1].x() + bx[2] * q[2].x(),
+                          bx[0] * q[0].y() + bx[1] * q[1].y() + bx[2] * q[2].y());
+          held.push_back(1);
         }
-        trip.emplace_back(r, r, sum);
-      }
-      Eigen::SparseMatrix<double> A(n, n);
-      A.setFromTriplets(trip.begin(), trip.end());
-      Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
-      lu.analyzePattern(A);
-      lu.factorize(A);
-      if (lu.info() != Eigen::Success)
-        throw Algorithm_error("mean-value system of patch " + std::to_string(t) + " could not be factorized");
-      Eigen::MatrixXd x = lu.solve(rhs);
-      if (lu.info() != Eigen::Success || !x.allFinite())
+      if (!mean_value_layout(m, vs, [&slot](WV v) { return slot[v]; }, held, uv, vertex_factor))
         throw Algorithm_error("mean-value system of patch " + std::to_string(t) + " could not be solved");
-      for (int r = 0; r < n; ++r) {
+      for (std::size_t r = 0; r < interior[t].size(); ++r) {
         loc[vs[r]].tri = int(t);
-        loc[vs[r]].b = B.frame_barycentric(int(t), Point_2(x(r, 0), x(r, 1)));
+        loc[vs[r]].b = B.frame_barycentric(int(t), Point_2(uv[r].x(), uv[r].y()));
       }
+      for (WV v : vs) slot[v] = -1;
     }
   }
 

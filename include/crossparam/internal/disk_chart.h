@@ -12,8 +12,6 @@
 #include <crossparam/internal/base_parameterization.h>
 
 #include <Eigen/Dense>
-#include <Eigen/Sparse>
-#include <Eigen/SparseLU>
 
 #include <cmath>
 #include <optional>
@@ -22,46 +20,6 @@
 
 namespace crossparam {
 namespace internal {
-
-/// Convex-combination layout (Tutte's, with Floater's mean-value weights of m's geometry): every vertex
-/// vertices[i] that is not `fixed` gets the point uv[i] that is the weighted mean of its neighbours',
-/// sum_j w_ij (uv_i - uv_j) = 0, one sparse LU solve for both coordinates. `slot(v)` is v's index in
-/// `vertices`; every neighbour of a vertex that is not fixed must have one. False if the solve fails.
-template <class Slot>
-bool mean_value_layout(const Work_mesh& m, const std::vector<WV>& vertices, const Slot& slot,
-                       const std::vector<char>& fixed, std::vector<Eigen::Vector2d>& uv) {
-  const std::size_t n = vertices.size();
-  std::vector<int> unknown(n, -1);
-  int n_unknown = 0;
-  for (std::size_t i = 0; i < n; ++i)
-    if (!fixed[i]) unknown[i] = n_unknown++;
-  if (n_unknown == 0) return true;
-  const double fallback = mean_value_fallback(m);
-  std::vector<Eigen::Triplet<double>> entries;
-  Eigen::MatrixX2d rhs = Eigen::MatrixX2d::Zero(n_unknown, 2);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (fixed[i]) continue;
-    const int r = unknown[i];
-    double diagonal = 0;
-    for (WH h : CGAL::halfedges_around_source(m.opposite(m.halfedge(vertices[i])), m)) {
-      const double w = mean_value_weight(m, h, fallback);
-      const int j = slot(m.target(h));
-      diagonal += w;
-      if (fixed[j]) rhs.row(r) += w * uv[j].transpose();
-      else entries.emplace_back(r, unknown[j], -w);
-    }
-    entries.emplace_back(r, r, diagonal);
-  }
-  Eigen::SparseMatrix<double> A(n_unknown, n_unknown);
-  A.setFromTriplets(entries.begin(), entries.end());
-  Eigen::SparseLU<Eigen::SparseMatrix<double>> lu(A);
-  if (lu.info() != Eigen::Success) return false;
-  const Eigen::MatrixX2d x = lu.solve(rhs);
-  if (lu.info() != Eigen::Success || !x.allFinite()) return false;
-  for (std::size_t i = 0; i < n; ++i)
-    if (!fixed[i]) uv[i] = x.row(unknown[i]).transpose();
-  return true;
-}
 
 class Disk_chart {
 public:
