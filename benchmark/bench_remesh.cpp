@@ -24,8 +24,8 @@ int main(int argc, char** argv) {
   const std::vector<fs::path> cases = bench::cases(dir, "bench_remesh");
   std::printf("compatible remeshing, tolerance %.3g%% of the target's bbox diagonal, one run per case, assertions %s\n\n",
               tol, bench::assertions());
-  std::printf("| case | input sizes (#v) | output size | added | L2 error (%%) | PSNR | max e(v) (%%) | Hausdorff (%%) | layout splits kept / undone | splits + pseudo flips + fold repair | flipped | map (s) | remesh (s) | total (s) | map squeeze s/t |\n");
-  std::printf("|---|---|---:|---:|---:|---:|---:|---:|---|---|---:|---:|---:|---:|---|\n");
+  std::printf("| case | input sizes (#v) | output size | added | L2 error (%%) | PSNR | max e(v) (%%) | Hausdorff (%%) | layout splits kept / undone | splits + pseudo flips + fold repair | flipped | normal dev. mean ° / >30° area %% | map (s) | remesh (s) | total (s) | map squeeze s/t |\n");
+  std::printf("|---|---|---:|---:|---:|---:|---:|---:|---|---|---:|---|---:|---:|---:|---|\n");
   for (const fs::path& c : cases) {
     if (!filter.empty() && c.filename().string().find(filter) == std::string::npos) continue;
     Surface_mesh s, t;
@@ -45,10 +45,10 @@ int main(int argc, char** argv) {
     r.copy_to(0, os);
     r.copy_to(1, ot);
     Remeshing_verification v = verify_compatible_remeshing(s0, t0, os, ot, tol);
-    std::printf("| %s | %zu/%zu | %zu | %+.1f%% | %.3f | %.1f | %.3f | %.3f | %zu / %zu | %zu + %zu + %zu | %zu | %.2f | %.2f | %.2f | %.1e / %.1e |%s\n",
+    std::printf("| %s | %zu/%zu | %zu | %+.1f%% | %.3f | %.1f | %.3f | %.3f | %zu / %zu | %zu + %zu + %zu | %zu | %.2f / %.2f | %.2f | %.2f | %.2f | %.1e / %.1e |%s\n",
                 c.filename().string().c_str(), ns, nt, S.output_vertices,
                 100.0 * (double(S.output_vertices) - double(ns)) / double(ns), S.l2_error, S.psnr, S.max_error,
-                v.hausdorff_target, S.layout_vertices - ns, S.layout_splits_undone, S.refinement_splits, S.pseudo_flips, S.fold_repair_splits, v.flipped_faces, S.seconds_cross_parameterization,
+                v.hausdorff_target, S.layout_vertices - ns, S.layout_splits_undone, S.refinement_splits, S.pseudo_flips, S.fold_repair_splits, v.flipped_faces, v.normal_deviation_mean, v.normal_deviation_above_30, S.seconds_cross_parameterization,
                 S.seconds_total, total, cp.statistics().squeeze_source, cp.statistics().squeeze_target, v.valid ? "" : (" FAILED: " + v.message).c_str());
     std::fflush(stdout);
   }

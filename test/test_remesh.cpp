@@ -295,23 +295,49 @@ TEST_P(BenchRemesh, CompatibleAndClose) {
   EXPECT_LT(o.stats.l2_error, 0.4);
   EXPECT_LT(o.stats.l2_error, o.stats.l2_error_initial);
   // Today's figures (manual §10.5): Hausdorff 0.44-0.48 % against the tolerance 0.5 %; no flipped face;
-  // 16-55 % added vertices.
+  // 14-44 % added vertices; normals deviating more than 30° from the target's on 0.75-2.45 % of the area.
   EXPECT_LE(o.check.hausdorff_target, 0.5) << o.check.message;
   EXPECT_EQ(o.check.flipped_faces, 0u);
   EXPECT_TRUE(o.check.valid) << o.check.message; // every criterion of the tolerance met
-  // The untangling on the target (the remesher's last step) removed yang_cat_horse's five folds in planar
-  // rings, moving vertices of the target-shaped mesh along the target by less than 2 % of the diagonal, and
-  // shrec_381_382's two in a disk chart of the leg where F is squeezed (a larger region, moved further).
+  EXPECT_LT(o.check.normal_deviation_above_30, 3.0);
+  // The untangling on the target runs before the fold repair: on yang_cat_horse it removes all 55 folds left
+  // after §5.4 with no vertex added (moves along the target below 2.5 % of the diagonal), on shrec_381_382
+  // all 4, two of them in a disk chart of the leg where F is squeezed (a larger region, moved further).
   if (GetParam() == "yang_cat_horse") {
-    EXPECT_EQ(o.stats.untangled_folds, 5u);
+    EXPECT_EQ(o.stats.untangled_folds, 55u);
+    EXPECT_EQ(o.stats.fold_repair_splits, 0u);
     EXPECT_GT(o.stats.untangle_moves, 0u);
-    EXPECT_LT(o.stats.untangle_max_move, 2.0);
+    EXPECT_LT(o.stats.untangle_max_move, 2.5);
   }
   if (GetParam() == "shrec_381_382") {
-    EXPECT_EQ(o.stats.untangled_folds, 2u);
+    EXPECT_EQ(o.stats.untangled_folds, 4u);
+    EXPECT_EQ(o.stats.fold_repair_splits, 0u);
     EXPECT_LT(o.stats.untangle_max_move, 7.0);
   }
-  EXPECT_LT(double(o.stats.output_vertices), 1.65 * double(o.stats.source_vertices));
+  EXPECT_LT(double(o.stats.output_vertices), 1.45 * double(o.stats.source_vertices));
+}
+
+// At the paper's error (Table 2: L2 0.12-0.14 %, which ε = 1 % gives here), the bench cases are all valid and
+// need fewer added vertices on average than the paper's four models: 37.4, 1.8, 13.5 and 1.7 %, mean 13.6 %.
+TEST(BenchRemeshAtPaperError, FewerAddedVerticesThanThePaper) {
+  double added = 0, l2 = 0;
+  std::size_t n = 0;
+  for (const std::string& name : test_bench::names()) {
+    std::optional<test_bench::Case> c = test_bench::load(name);
+    if (!c) GTEST_SKIP() << test_bench::absent(name);
+    Outcome o = remesh_and_verify(c->source, c->target, c->features, 1.0);
+    EXPECT_TRUE(o.check.valid) << name << ": " << o.check.message;
+    EXPECT_TRUE(o.certificate) << name;
+    EXPECT_LT(o.check.normal_deviation_above_30, 3.0) << name;
+    added += 100.0 * (double(o.stats.output_vertices) / double(o.stats.source_vertices) - 1);
+    l2 += o.stats.l2_error;
+    ++n;
+  }
+  ASSERT_EQ(n, 6u);
+  std::cout << "[ remesh ] at 1 %: mean added " << added / n << " %, mean L2 " << l2 / n << " %\n";
+  EXPECT_LT(added / n, 13.6);  // today 12.9 %
+  EXPECT_GT(l2 / n, 0.12);     // the same error as the paper's: today 0.128 %
+  EXPECT_LT(l2 / n, 0.14);
 }
 
 INSTANTIATE_TEST_SUITE_P(Shared, BenchRemesh,

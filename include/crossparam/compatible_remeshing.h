@@ -229,26 +229,41 @@ public:
     }
     stats_.seconds_flips = sec(tf, clock::now());
 
-    // Folds left: refine them away in the target's metric (an addition to the paper).
-    const auto tfr = clock::now();
+    // Folds left (additions to the paper): untangled on the target, off F, which adds no vertex; where that
+    // leaves folds, the untangling is undone, the fold repair refines around those folds in the target's
+    // metric, and the untangling runs again.
+    const auto tu = clock::now();
+    auto say_untangled = [&] {
+      if (stats_.untangled_folds + flipped_ > 0)
+        say("remesh: untangling: " + std::to_string(stats_.untangled_folds) + " folds removed, " +
+            std::to_string(stats_.untangle_moves) + " vertices moved along the target (at most " +
+            fmt(stats_.untangle_max_move) + "%), " + std::to_string(flipped_) + " flipped faces");
+    };
+    const std::vector<internal::Work_location> img_before = img_;
+    const std::vector<Point_3> pos_before = pos_;
+    const std::vector<char> folded_before = folded_;
+    const std::size_t flipped_before = flipped_;
+    untangle_folds();
+    say_untangled();
     if (flipped_ > 0) {
-      repair_folds();
+      const auto& m = S_.m;
+      std::vector<char> hard(m.number_of_vertices(), 0);
+      for (internal::WF f : m.faces())
+        if (folded_[f])
+          for (internal::WV v : CGAL::vertices_around_face(m.halfedge(f), m)) hard[v] = 1;
+      img_ = img_before, pos_ = pos_before, folded_ = folded_before, flipped_ = flipped_before;
+      stats_.untangled_folds = stats_.untangle_moves = 0, stats_.untangle_max_move = 0;
+      const auto tr = clock::now();
+      repair_folds(&hard);
       measure();
+      stats_.seconds_fold_repair = sec(tr, clock::now());
       say("remesh: fold repair: " + std::to_string(stats_.fold_repair_splits) + " splits (" +
           std::to_string(stats_.fold_repairs_kept) + " repairs kept, " + std::to_string(stats_.fold_repairs_undone) +
           " undone), " + std::to_string(flipped_) + " flipped faces");
-    }
-    stats_.seconds_fold_repair = sec(tfr, clock::now());
-
-    // Folds still left: untangle them on the target, off F (an addition to the paper).
-    const auto tu = clock::now();
-    if (flipped_ > 0) {
       untangle_folds();
-      say("remesh: untangling: " + std::to_string(stats_.untangled_folds) + " folds removed, " +
-          std::to_string(stats_.untangle_moves) + " vertices moved along the target (at most " +
-          fmt(stats_.untangle_max_move) + "%), " + std::to_string(flipped_) + " flipped faces");
+      say_untangled();
     }
-    stats_.seconds_untangle = sec(tu, clock::now());
+    stats_.seconds_untangle = sec(tu, clock::now()) - stats_.seconds_fold_repair;
 
     // The parameterization of the remeshed source must still be one-to-one.
     const auto tc = clock::now();
@@ -923,10 +938,17 @@ private:
   /// everywhere else (the source geometry is kept) and are made only if every new face is positively
   /// oriented over the base mesh (exact test). The folds are counted with the strict test of flipped() (`repairing_`).
   /// Passes alternate two modes (slack 1, LEPP only; slack 2, the face's own edges too) until a pass of each
-  /// mode in a row keeps nothing, at most six passes.
-  void repair_folds() {
+  /// mode in a row keeps nothing, at most six passes. With `near` (a flag per vertex), only the folded faces
+  /// with a flagged corner or a corner the repair made are repaired.
+  void repair_folds(const std::vector<char>* near = nullptr) {
     auto& m = S_.m;
     const std::size_t v0 = m.number_of_vertices();
+    auto wanted = [&](internal::WF f) {
+      if (!near) return true;
+      for (internal::WV v : CGAL::vertices_around_face(m.halfedge(f), m))
+        if (std::size_t(v) >= v0 || (*near)[v]) return true;
+      return false;
+    };
     repairing_ = true;
     constexpr int budget = 200, max_passes = 6;
     int idle = 0;
@@ -935,7 +957,7 @@ private:
       fold_slack_ = second_mode ? 2 : 1;
       std::vector<internal::WF> folded;
       for (internal::WF f : m.faces())
-        if (face_folded(f)) folded.push_back(f);
+        if (face_folded(f) && wanted(f)) folded.push_back(f);
       if (folded.empty()) break;
       std::size_t kept = 0;
       for (internal::WF f0 : folded) {
@@ -1066,7 +1088,8 @@ private:
       const double now = std::min(agreement(u, v, x), agreement(v, u, y));
       if (now >= cos_max) continue;
       const double flipped = std::min(agreement(x, y, v), agreement(y, x, u));
-      if (!(flipped > now)) continue;
+      // A pseudo flip costs a vertex: made only where the flip brings both faces within the threshold.
+      if (!(flipped > now && flipped >= cos_max)) continue;
       // Where the diagonals cross in the base domain, as a parameter along (u, v).
       std::array<const Base_location*, 4> ls{&P_[u], &P_[v], &P_[x], &P_[y]};
       std::array<internal::Point_2, 4> p;
@@ -1096,18 +1119,25 @@ private:
 
   using Target_tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, CGAL::AABB_face_graph_triangle_primitive<internal::Work_mesh>>>;
 
-  /// Whether face f of M_st is flipped by the rule of the independent verifier (internal::flipped_against_nearest):
-  /// its normal opposes the target's at the points of the target nearest its centroid and each corner.
+  /// Whether face f of M_st is flipped by the rule of the independent verifier (internal::flipped_against_nearest:
+  /// its normal opposes the target's at the points of the target nearest its centroid and each corner), taken
+  /// strictly: where such a point lies on an edge or at a vertex of the target, the verifier may take any face
+  /// through it, so the point counts as opposing if one of them opposes (opposes()).
   bool flipped_on_target(const Target_tree& tree, internal::WF f) const {
     const auto& m = S_.m;
     const internal::WH h = m.halfedge(f);
-    return internal::flipped_against_nearest(tree, [this](internal::WF g) { return target_normal(g); },
-                                             pos_[m.source(h)], pos_[m.target(h)], pos_[m.target(m.next(h))]);
+    const Point_3 &a = pos_[m.source(h)], &b = pos_[m.target(h)], &c = pos_[m.target(m.next(h))];
+    const Kernel::Vector_3 n = internal::triangle_normal(a, b, c);
+    for (const Point_3& p : {CGAL::centroid(a, b, c), a, b, c}) {
+      const auto nearest = tree.closest_point_and_primitive(p);
+      if (!opposes(n, nearest.first, nearest.second)) return false;
+    }
+    return true;
   }
 
-  /// Untangling on the target (an addition to the paper), for the folds that the fold repair could not remove.
-  /// Where F is this anisotropic, no M_st that is F of a one-to-one M_s avoids the fold (§10.5 of the manual),
-  /// so these vertices of the target-shaped mesh leave F: they move along the target, their source vertices
+  /// Untangling on the target (an addition to the paper), for the folds left after §5.4. Every face is tested
+  /// by the verifier's rule (flipped_on_target()), which also sets `folded_` and `flipped_`. Where F is this
+  /// anisotropic, no M_st that is F of a one-to-one M_s avoids the fold (§10.5 of the manual), so these vertices of the target-shaped mesh leave F: they move along the target, their source vertices
   /// stay. Each folded face f is untangled in a chart of the target with the outline of a region around it
   /// and the feature vertices held: first in the plane of the mean target normal under the k-ring of f
   /// (k = 1 ... 8, while the ring is flat enough for a plane: untangle_ring()), then, if no ring works, in a
@@ -1119,7 +1149,7 @@ private:
     std::vector<char> moved(m.number_of_vertices(), 0);
     std::vector<internal::WF> folds;
     for (internal::WF f : m.faces())
-      if (folded_[f] && flipped_on_target(tree, f)) folds.push_back(f);
+      if (flipped_on_target(tree, f)) folds.push_back(f);
     for (internal::WF f : folds) {
       if (!flipped_on_target(tree, f)) continue; // untangled with an earlier one
       int r = untangle_in_rings(tree, f, moved);
@@ -1127,14 +1157,9 @@ private:
         if (r <= 0) r = untangle_on_surface(tree, f, size, moved);
     }
     for (internal::WF f : folds) stats_.untangled_folds += !flipped_on_target(tree, f);
-    // Faces with a moved corner are counted by the verifier's rule, the others as measure() found them.
+    // Every face is counted by the verifier's rule now.
     flipped_ = 0;
-    for (internal::WF f : m.faces()) {
-      bool touched = false;
-      for (internal::WV v : CGAL::vertices_around_face(m.halfedge(f), m)) touched = touched || moved[v];
-      if (touched) folded_[f] = flipped_on_target(tree, f);
-      flipped_ += folded_[f];
-    }
+    for (internal::WF f : m.faces()) flipped_ += (folded_[f] = flipped_on_target(tree, f));
     for (char c : moved) stats_.untangle_moves += c;
   }
 

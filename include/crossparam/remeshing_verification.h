@@ -31,6 +31,9 @@ struct Remeshing_verification {
   double hausdorff_from_target = 0; ///< and from the target to the output
   double hausdorff_source = 0;      ///< one-sided, from the source-shaped output to the source
   std::size_t flipped_faces = 0;    ///< target-shaped faces whose normal opposes the target's under them
+  double normal_deviation_mean = 0; ///< degrees: angle between each target-shaped face's normal and the target's
+                                    ///< at the point nearest its centroid, mean weighted by face area
+  double normal_deviation_above_30 = 0; ///< percent of the target-shaped area where that angle exceeds 30°
   bool valid = false;               ///< compatible, both distances within bounds, nothing flipped
   std::string message;              ///< empty when valid
 };
@@ -101,13 +104,21 @@ Remeshing_verification verify_compatible_remeshing(const Mesh& src, const Mesh& 
     return internal::triangle_normal(get(CGAL::vertex_point, tgt, source(g, tgt)), get(CGAL::vertex_point, tgt, target(g, tgt)),
                                      get(CGAL::vertex_point, tgt, target(next(g, tgt), tgt)));
   };
+  double area = 0, weighted = 0, above = 0;
   for (auto f : faces(out_target)) {
     auto h = halfedge(f, out_target);
-    if (internal::flipped_against_nearest(tree, target_normal, get(CGAL::vertex_point, out_target, source(h, out_target)),
-                                          get(CGAL::vertex_point, out_target, target(h, out_target)),
-                                          get(CGAL::vertex_point, out_target, target(next(h, out_target), out_target))))
-      ++r.flipped_faces;
+    const auto a = get(CGAL::vertex_point, out_target, source(h, out_target));
+    const auto b = get(CGAL::vertex_point, out_target, target(h, out_target));
+    const auto c = get(CGAL::vertex_point, out_target, target(next(h, out_target), out_target));
+    if (internal::flipped_against_nearest(tree, target_normal, a, b, c)) ++r.flipped_faces;
+    // Normal deviation (paper §5.4), at the point of the target nearest the centroid.
+    const auto n = internal::triangle_normal(a, b, c), nt = target_normal(tree.closest_point_and_primitive(CGAL::centroid(a, b, c)).second);
+    const double ln = std::sqrt(n.squared_length()), lt = std::sqrt(nt.squared_length());
+    if (!(ln > 0 && lt > 0)) continue;
+    const double angle = std::acos(std::max(-1.0, std::min(1.0, (n * nt) / (ln * lt)))) * 180 / CGAL_PI;
+    area += ln, weighted += ln * angle, above += angle > 30 ? ln : 0;
   }
+  if (area > 0) r.normal_deviation_mean = weighted / area, r.normal_deviation_above_30 = 100 * above / area;
   r.valid = r.compatible && r.hausdorff_target <= tolerance && r.hausdorff_source <= source_bound &&
             r.flipped_faces == 0;
   if (!r.valid) {
