@@ -109,6 +109,7 @@ if "$cli" demo -o "$work/demo" --quiet; then
     bad "remesh: source_compatible.off does not start with the source's vertices"
   # Same face lists.
   ns=$(sed -n 2p "$work/demo/source_compatible.off" | awk '{print $1}')
+  grep -q '"verification": {"valid": true' "$work/demo/report.json" || bad "demo: the remeshing is not verified valid"
   cmp -s <(tail -n +$((ns + 3)) "$work/demo/source_compatible.off") <(tail -n +$((ns + 3)) "$work/demo/target_compatible.off") ||
     bad "remesh: the two outputs have different faces"
   ok
@@ -153,6 +154,8 @@ if [ -d "$shared/bench/wolf0_wolf2" ]; then
       [ -s "$work/wolfremesh/$f" ] || bad "remesh: missing $f"
     done
     grep -q '"psnr"' "$work/wolfremesh/report.json" || bad "remesh: no PSNR in the report"
+    grep -q '"verification": {"valid": true, "compatible": true' "$work/wolfremesh/report.json" ||
+      bad "remesh: the independent verification is not reported valid"
     ok
   else
     bad "remesh on wolf0_wolf2 failed"

@@ -14,6 +14,7 @@
 #include <crossparam/morph.h>
 #include <crossparam/io.h>
 #include <crossparam/patch_layout.h>
+#include <crossparam/remeshing_verification.h>
 #include <crossparam/render.h>
 #include <crossparam/shapes.h>
 #include <crossparam/internal/png.h>
@@ -480,7 +481,23 @@ std::array<unsigned char, 3> error_color(double e, double tolerance) {
 }
 
 /// Writes the outputs of `crossparam remesh` into o.output.
-void write_remesh(const Options& o, const Map& cp, const Remesher& r, double read_s) {
+/// Writes the outputs of `remesh` and report.json, with the independent verification of the outputs against
+/// the inputs as they were before the map refined them (`source0`, `target0`).
+void write_remesh(const Options& o, const Map& cp, const Remesher& r, const Surface_mesh& source0,
+                  const Surface_mesh& target0, double read_s) {
+  Timer tv;
+  Surface_mesh out_source, out_target;
+  r.copy_to(0, out_source);
+  r.copy_to(1, out_target);
+  const Remeshing_verification check = verify_compatible_remeshing(source0, target0, out_source, out_target, o.tolerance);
+  const double verify_s = tv.seconds();
+  if (!o.quiet)
+    std::cout << "remesh: verified: Hausdorff " << json_number(check.hausdorff_target) << "% (tolerance "
+              << json_number(o.tolerance) << "%), source " << json_number(check.hausdorff_source) << "%, "
+              << check.flipped_faces << " flipped faces, normals " << json_number(check.normal_deviation_mean)
+              << " degrees off on average, " << json_number(check.normal_deviation_above_30)
+              << "% of the area beyond 30 degrees (" << json_number(verify_s) << " s)\n";
+  if (!check.valid) std::cerr << "crossparam: warning: the remeshing misses its tolerance: " << check.message << "\n";
   fs::create_directories(o.output);
   auto out = [&](const std::string& name) { return (fs::path(o.output) / name).string(); };
   write_off(out("source_compatible.off"), r.source_points(), r.faces());
@@ -515,6 +532,13 @@ void write_remesh(const Options& o, const Map& cp, const Remesher& r, double rea
     os << "  \"converged\": " << (S.converged ? "true" : "false") << ",\n";
     os << "  \"flipped_faces\": " << S.flipped_faces << ",\n";
     os << "  \"certificate\": " << (r.certificate().valid ? "true" : "false") << ",\n";
+    os << "  \"verification\": {\"valid\": " << (check.valid ? "true" : "false") << ", \"compatible\": "
+       << (check.compatible ? "true" : "false") << ", \"hausdorff_percent\": " << json_number(check.hausdorff_target)
+       << ", \"hausdorff_source_percent\": " << json_number(check.hausdorff_source)
+       << ", \"flipped_faces\": " << check.flipped_faces
+       << ", \"normal_deviation_mean_degrees\": " << json_number(check.normal_deviation_mean)
+       << ", \"normal_deviation_above_30_percent\": " << json_number(check.normal_deviation_above_30)
+       << ", \"seconds\": " << json_number(verify_s) << "},\n";
     os << "  \"iterations\": {\"smoothing_rounds\": " << S.smoothing_rounds << ", \"refinement_rounds\": " << S.refinement_rounds << "},\n";
     os << "  \"seconds\": {\"read\": " << json_number(read_s) << ", \"protrusion_probe\": " << json_number(C.seconds_probe)
        << ", \"layout\": " << json_number(C.layout.seconds_total)
@@ -550,9 +574,10 @@ Remesher remesh(const Options& o, const Map& cp) {
 
 int run_remesh(const Options& o) {
   Inputs in = read_inputs(o);
+  const Surface_mesh source0 = in.source.mesh, target0 = in.target.mesh; // the map refines its inputs
   Map cp = compute_map(o, in.source.mesh, in.target.mesh, in.features);
   const Remesher r = remesh(o, cp);
-  write_remesh(o, cp, r, in.seconds);
+  write_remesh(o, cp, r, source0, target0, in.seconds);
   return 0;
 }
 
@@ -634,11 +659,12 @@ int run_demo(const Options& o) {
   if (!o.quiet)
     std::cout << "demo: creature A " << a.number_of_vertices() << " vertices, creature B " << b.number_of_vertices()
               << " vertices, " << f.size() << " features (" << json_number(gen_s) << " s to generate)\n";
+  const Surface_mesh a0 = a, b0 = b; // the map refines its inputs
   Map cp = compute_map(o, a, b, f);
   write_layout(o, a, b, cp.layout(), {{"generate", gen_s}});
   write_map(o, cp, gen_s);
   const Remesher r = remesh(o, cp);
-  write_remesh(o, cp, r, gen_s);
+  write_remesh(o, cp, r, a0, b0, gen_s);
   // The morph sequence between the two compatible meshes.
   Polygon_soup sa, sb;
   sa.points = r.source_points();
