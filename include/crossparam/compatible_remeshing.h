@@ -11,9 +11,9 @@
 // the two diagonals instead. Splits are applied to the source mesh and M_st together (they share connectivity);
 // a new vertex lies on a source edge or inside a source face, and its image is F of it, on the target. No vertex is removed and no edge
 // is flipped, so the source geometry is kept exactly, and every step keeps the parameterization one-to-one
-// (exact orientation tests), which is certified again at the end. Folds of M_st that the fold repair cannot
-// remove are untangled last along the target (internal/untangle.h): there, and only there, a vertex of the
-// target-shaped mesh is not F of its source vertex.
+// (exact orientation tests), which is certified again at the end. Folds of M_st left after the pseudo flips
+// are untangled along the target (internal/untangle.h), with a fold repair by splits first where that alone
+// fails: there, and only there, a vertex of the target-shaped mesh is not F of its source vertex.
 #ifndef CROSSPARAM_COMPATIBLE_REMESHING_H
 #define CROSSPARAM_COMPATIBLE_REMESHING_H
 
@@ -239,11 +239,13 @@ public:
             std::to_string(stats_.untangle_moves) + " vertices moved along the target (at most " +
             fmt(stats_.untangle_max_move) + "%), " + std::to_string(flipped_) + " flipped faces");
     };
+    Target_tree tree(CGAL::faces(T_.m).first, CGAL::faces(T_.m).second, T_.m);
+    tree.accelerate_distance_queries();
     const std::vector<internal::Work_location> img_before = img_;
     const std::vector<Point_3> pos_before = pos_;
     const std::vector<char> folded_before = folded_;
     const std::size_t flipped_before = flipped_;
-    untangle_folds();
+    untangle_folds(tree);
     say_untangled();
     if (flipped_ > 0) {
       const auto& m = S_.m;
@@ -260,7 +262,7 @@ public:
       say("remesh: fold repair: " + std::to_string(stats_.fold_repair_splits) + " splits (" +
           std::to_string(stats_.fold_repairs_kept) + " repairs kept, " + std::to_string(stats_.fold_repairs_undone) +
           " undone), " + std::to_string(flipped_) + " flipped faces");
-      untangle_folds();
+      untangle_folds(tree);
       say_untangled();
     }
     stats_.seconds_untangle = sec(tu, clock::now()) - stats_.seconds_fold_repair;
@@ -1135,16 +1137,16 @@ private:
     return true;
   }
 
-  /// Untangling on the target (an addition to the paper), for the folds left after §5.4. Every face is tested
-  /// by the verifier's rule (flipped_on_target()), which also sets `folded_` and `flipped_`. Where F is this
-  /// anisotropic, no M_st that is F of a one-to-one M_s avoids the fold (§10.5 of the manual), so these vertices of the target-shaped mesh leave F: they move along the target, their source vertices
-  /// stay. Each folded face f is untangled in a chart of the target with the outline of a region around it
-  /// and the feature vertices held: first in the plane of the mean target normal under the k-ring of f
-  /// (k = 1 ... 8, while the ring is flat enough for a plane: untangle_ring()), then, if no ring works, in a
-  /// flattened disk of the target around f, which follows the target where it bends (untangle_on_surface()).
-  void untangle_folds() {
-    Target_tree tree(CGAL::faces(T_.m).first, CGAL::faces(T_.m).second, T_.m);
-    tree.accelerate_distance_queries();
+  /// Untangling on the target (an addition to the paper), for the folds left after §5.4; `tree` holds the
+  /// target's faces. Every face is tested by the verifier's rule (flipped_on_target()), which also sets
+  /// `folded_` and `flipped_`. Where F is this anisotropic, no M_st that is F of a one-to-one M_s avoids the
+  /// fold (§10.5 of the manual), so these vertices of the target-shaped mesh leave F: they move along the
+  /// target, their source vertices stay. Each folded face f is untangled in a chart of the target with the
+  /// outline of a region around it and the feature vertices held: first in the plane of the mean target normal
+  /// under the k-ring of f (k = 1 ... 8, while the ring is flat enough for a plane: untangle_ring()), then, if
+  /// no ring works, in a flattened disk of the target around f, which follows the target where it bends
+  /// (untangle_on_surface()).
+  void untangle_folds(const Target_tree& tree) {
     const auto& m = S_.m;
     std::vector<char> moved(m.number_of_vertices(), 0);
     std::vector<internal::WF> folds;
@@ -1156,10 +1158,9 @@ private:
       for (double size : {1.0, 1.5, 2.0})
         if (r <= 0) r = untangle_on_surface(tree, f, size, moved);
     }
-    for (internal::WF f : folds) stats_.untangled_folds += !flipped_on_target(tree, f);
-    // Every face is counted by the verifier's rule now.
     flipped_ = 0;
     for (internal::WF f : m.faces()) flipped_ += (folded_[f] = flipped_on_target(tree, f));
+    for (internal::WF f : folds) stats_.untangled_folds += !folded_[f];
     for (char c : moved) stats_.untangle_moves += c;
   }
 

@@ -49,19 +49,14 @@ public:
 
   /// Runs the untangling; `max_step` bounds how far one step moves a coordinate (a fraction of the reference
   /// edge length keeps the line search in the range where the energy is meaningful). Returns the smallest
-  /// det J at the end: positive if every triangle is positively oriented. Stops early, as failed, once the
-  /// smallest det J has not grown by 1 % in `stall_rounds` rounds (where no embedding exists it stalls).
-  double run(double max_step, int outer_rounds = 200, int inner_iterations = 400, int stall_rounds = 50) {
+  /// det J at the end: positive if every triangle is positively oriented. At most `outer_rounds` values of ε:
+  /// where no positive embedding exists, the smallest det J stalls well before 51 rounds.
+  double run(double max_step, int outer_rounds = 51, int inner_iterations = 400) {
     double eps = 1, previous = energy(eps, nullptr);
-    double best = -HUGE_VAL;
-    int best_round = 0;
     for (int round = 0; round < outer_rounds; ++round) {
       minimise(eps, inner_iterations, max_step);
       const double e = energy(eps, nullptr), d = min_det();
       if (d > 0 && round >= 2) break;
-      // Stalled: the most inverted triangle has not improved by 1 % in `stall_rounds` rounds.
-      if (d > best + 0.01 * std::abs(best)) best = d, best_round = round;
-      if (d <= 0 && round - best_round >= stall_rounds) break;
       // The schedule of the paper: ε shrinks with the relative decrease of the energy, and stays above the
       // scale of the most inverted triangle so that the barrier does not stall the minimisation.
       const double sigma = std::max(1 - e / previous, 0.1);
