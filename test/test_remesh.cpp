@@ -177,7 +177,7 @@ TEST(Morph, CompatibilityAndInterpolation) {
   EXPECT_THROW(check_compatible(a, c), Incompatible_inputs_error);
 }
 
-// The planar untangler behind the remesher's last step (internal/untangle.h): a grid whose inner vertices
+// The planar untangler behind the remesher's last step (internal/remeshing/untangle.h): a grid whose inner vertices
 // are thrown across each other is untangled with its outline held; a fan whose outline has an empty kernel
 // cannot be, and says so.
 TEST(Untangle, GridWithCrossedVerticesBecomesPositive) {
@@ -223,7 +223,7 @@ TEST(Untangle, ReportsWhenNoEmbeddingExists) {
   EXPECT_LE(u.run(0.05), 0);
 }
 
-// The disk chart behind the untangling on the surface (internal/disk_chart.h). On a torus, a disk grown around
+// The disk chart behind the untangling on the surface (internal/remeshing/disk_chart.h). On a torus, a disk grown around
 // a point of the tube stays a topological disk however far it grows (it cannot close around the tube or the
 // hole), its flattening is one-to-one (every face positive, exact predicate), the normal cone keeps it on the
 // side facing out, and points go to the chart and back unchanged.

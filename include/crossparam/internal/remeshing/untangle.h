@@ -10,8 +10,8 @@
 // χ is positive for every D, so the energy is finite on tangled meshes; as ε → 0 it tends to D for D > 0 and
 // to 0 for D < 0, so a small ε makes inverted triangles expensive. Minimised with L-BFGS for each ε, and ε
 // lowered by the schedule of the paper until no triangle is inverted.
-#ifndef CROSSPARAM_INTERNAL_UNTANGLE_H
-#define CROSSPARAM_INTERNAL_UNTANGLE_H
+#ifndef CROSSPARAM_INTERNAL_REMESHING_UNTANGLE_H
+#define CROSSPARAM_INTERNAL_REMESHING_UNTANGLE_H
 
 #include <Eigen/Dense>
 
@@ -159,4 +159,4 @@ private:
 } // namespace internal
 } // namespace crossparam
 
-#endif // CROSSPARAM_INTERNAL_UNTANGLE_H
+#endif // CROSSPARAM_INTERNAL_REMESHING_UNTANGLE_H

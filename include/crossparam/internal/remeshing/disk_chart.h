@@ -5,8 +5,8 @@
 // theorem on convex-combination maps); it is checked all the same, face by face, with the exact orientation
 // predicate. Points move between the surface and the chart through barycentric coordinates, so a point of
 // the chart maps back to a point on the surface exactly, wherever the surface bends.
-#ifndef CROSSPARAM_INTERNAL_DISK_CHART_H
-#define CROSSPARAM_INTERNAL_DISK_CHART_H
+#ifndef CROSSPARAM_INTERNAL_REMESHING_DISK_CHART_H
+#define CROSSPARAM_INTERNAL_REMESHING_DISK_CHART_H
 
 #include <crossparam/internal/base_locator.h>
 #include <crossparam/internal/base_parameterization.h>
@@ -184,4 +184,4 @@ private:
 } // namespace internal
 } // namespace crossparam
 
-#endif // CROSSPARAM_INTERNAL_DISK_CHART_H
+#endif // CROSSPARAM_INTERNAL_REMESHING_DISK_CHART_H
