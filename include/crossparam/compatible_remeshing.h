@@ -6,12 +6,12 @@
 // in a loop: the approximation error e(v) at the target vertices (Eq. 1), Gaussian-smoothed; adaptive smoothing
 // of the source's parameterization with error-driven edge weights (Eq. 2) through the same Local_smoother as
 // §4.2; refinement where the error stays high once smoothing stops helping (§5.3: edge splits, plus insertion of
-// the preimages of the worst target vertices), with folds of M_st removed by vertex moves; finally "pseudo" edge flips
-// (§5.4): edges whose flip would bring the faces' normals closer to the target's are split at the crossing of
-// the two diagonals instead. Splits are applied to the source mesh and M_st together (they share connectivity);
-// a new vertex lies on a source edge or inside a source face, and its image is F of it, on the target. No vertex is removed and no edge
-// is flipped, so the source geometry is kept exactly, and every step keeps the parameterization one-to-one
-// (exact orientation tests), which is certified again at the end. Folds of M_st left after the pseudo flips
+// the preimages of the worst target vertices), with folds of M_st removed by vertex moves; finally "pseudo"
+// edge flips (§5.4): edges whose flip would bring the faces' normals closer to the target's are split at the
+// crossing of the two diagonals instead. Splits are applied to the source mesh and M_st together (they share
+// connectivity); a new vertex lies on a source edge or inside a source face, and its image is F of it, on the
+// target. No vertex is removed and no edge is flipped, so the source geometry is kept exactly, and every step
+// keeps the parameterization one-to-one (exact orientation tests), which is certified again at the end. Folds of M_st left after the pseudo flips
 // are untangled along the target, with a fold repair by splits first where that alone fails: there, and only
 // there, a vertex of the target-shaped mesh is not F of its source vertex.
 //
@@ -122,11 +122,23 @@ struct Remeshing_statistics {
 /// `max_rounds` (default 30), `remeshing_weights` (default `Error_driven_weights`), `refinement_rule` (default
 /// `Half_max_refinement`), `progress` (callback, one line per step), `undo_layout_splits` (default true),
 /// `number_of_threads` (default 0: one per hardware thread; the results do not depend on it).
+///
+/// The steps, in order (the constructor runs them): the projection and its error (§5.1), adaptive smoothing
+/// and refinement (§5.2-5.3), pseudo edge flips (§5.4), the untangling on the target with the fold repair, the
+/// certificate, the outputs. Each step is in `internal/remeshing/`, on one state object.
+///
+/// \tparam SourceMesh, TargetMesh the mesh types of the cross-parameterization
 template <class SourceMesh, class TargetMesh>
 class Compatible_remesher {
 public:
   using Cross_param = Cross_parameterization<SourceMesh, TargetMesh>;
 
+  /// Remeshes the two meshes of `cp` (which must outlive the construction only).
+  /// \tparam NP a sequence of named parameters (see above)
+  /// \param cp a cross-parameterization of the source and the target
+  /// \param np the named parameters of the remeshing
+  /// \throws Input_error if the tolerance is not a positive number; Algorithm_error if the remeshed source's
+  ///         parameterization fails its certificate
   template <typename NP = CGAL::parameters::Default_named_parameters>
   explicit Compatible_remesher(const Cross_param& cp, const NP& np = CGAL::parameters::default_values()) {
     using CGAL::parameters::choose_parameter;
