@@ -324,8 +324,8 @@ TEST_P(BenchMap, CertifiedAndAccurate) {
             << " over " << acc.n << " points; E_ang " << cp.statistics().distortion_initial.angular << " -> "
             << cp.statistics().distortion.angular << ", L2 " << cp.statistics().distortion_initial.l2_stretch << " -> "
             << cp.statistics().distortion.l2_stretch << "\n";
-  // Nearest-point baselines from the issue: 0.074 (wolf), 0.128 (horse). Bounds are today's figures with a
-  // small margin, so that a regression fails; the aim is below 0.03 (wolf0_wolf2 is there).
+  // Nearest-point baselines: 0.074 (wolf), 0.128 (horse). The bounds are the measured figures (doc/results.md)
+  // with a small margin, so that a regression fails.
   if (GetParam() == "wolf0_wolf2") {
     EXPECT_LT(acc.mean, 0.030);
   }

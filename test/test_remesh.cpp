@@ -294,7 +294,7 @@ TEST_P(BenchRemesh, CompatibleAndClose) {
   EXPECT_LE(o.check.hausdorff_source, 1e-6);
   EXPECT_LT(o.stats.l2_error, 0.4);
   EXPECT_LT(o.stats.l2_error, o.stats.l2_error_initial);
-  // Today's figures (manual §10.5): Hausdorff 0.44-0.48 % against the tolerance 0.5 %; no flipped face;
+  // The bench figures (doc/results.md): Hausdorff 0.44-0.48 % against the tolerance 0.5 %; no flipped face;
   // 14-44 % added vertices; normals deviating more than 30° from the target's on 0.75-2.45 % of the area.
   EXPECT_LE(o.check.hausdorff_target, 0.5) << o.check.message;
   EXPECT_EQ(o.check.flipped_faces, 0u);
@@ -335,8 +335,8 @@ TEST(BenchRemeshAtPaperError, FewerAddedVerticesThanThePaper) {
   }
   ASSERT_EQ(n, 6u);
   std::cout << "[ remesh ] at 1 %: mean added " << added / n << " %, mean L2 " << l2 / n << " %\n";
-  EXPECT_LT(added / n, 13.6);  // today 12.9 %
-  EXPECT_GT(l2 / n, 0.12);     // the same error as the paper's: today 0.128 %
+  EXPECT_LT(added / n, 13.6);  // measured: 12.9 %
+  EXPECT_GT(l2 / n, 0.12);     // the same error as the paper's; measured: 0.128 %
   EXPECT_LT(l2 / n, 0.14);
 }
 

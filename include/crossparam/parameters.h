@@ -49,7 +49,7 @@ CROSSPARAM_ADD_NAMED_PARAMETER(vertex_feature_map)
 /// \brief `bool`, default `true`: whether to improve base-mesh valences by path flips (paper §3.3).
 CROSSPARAM_ADD_NAMED_PARAMETER(apply_path_flips)
 /// \brief `bool`, default `true`: trace each matching path pair so that the two paths agree in geodesic
-/// distances to the features (an addition to the paper; see the user manual).
+/// distances to the features (an addition to the paper; see doc/algorithms.md).
 CROSSPARAM_ADD_NAMED_PARAMETER(consistent_paths)
 
 /// \brief The weights policy of the §4.2 smoothing, a model of `SmoothingWeights`; default `Mean_value_weights`.
@@ -59,7 +59,7 @@ CROSSPARAM_ADD_NAMED_PARAMETER(smoothing_tolerance)
 /// \brief `bool`, default `true`: whether to smooth the parameterizations (§4.2).
 CROSSPARAM_ADD_NAMED_PARAMETER(apply_smoothing)
 /// \brief `bool`, default `true`: add feature pairs at the tips of protrusions that a first map squeezes (an
-/// addition to the paper; see the user manual). The pairs added are appended to the user's.
+/// addition to the paper; see doc/algorithms.md). The pairs added are appended to the user's.
 CROSSPARAM_ADD_NAMED_PARAMETER(protrusion_features)
 
 /// \brief `double`, default 0.5: approximation tolerance ε of §5, in percent of the target's bounding-box diagonal.
@@ -76,7 +76,7 @@ CROSSPARAM_ADD_NAMED_PARAMETER(refinement_rule)
 /// \brief `unsigned`, default 30: smoothing-and-refinement rounds at most.
 CROSSPARAM_ADD_NAMED_PARAMETER(max_rounds)
 /// \brief `bool`, default true: undo, before §5, the layout's splits of the source that the smoothed map no
-/// longer needs (an addition to the paper, fewer output vertices; see the user manual).
+/// longer needs (an addition to the paper, fewer output vertices; see doc/algorithms.md).
 CROSSPARAM_ADD_NAMED_PARAMETER(undo_layout_splits)
 /// \brief `unsigned`, default 0 (one per hardware thread): threads for the map's smoothing (one per mesh) and
 /// distortion measurement, and for the remesher's error measurement. The results do not depend on it: each mesh

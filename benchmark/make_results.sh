@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
+# Regenerates the tables of doc/results.md from the bench programs. Builds nothing: build the targets
+# bench_layout, bench_map, bench_remesh and test_map first.
+#
+#   bash benchmark/make_results.sh [BUILD_DIR [BENCH_DIR [TABLE...]]]
+#
+# BUILD_DIR defaults to build, BENCH_DIR to ../shared/bench beside the repository; TABLE is one of layout, map, remesh-0.5, remesh-1,
+# accuracy (default: all). Each table's output replaces the text between its markers in doc/results.md:
+#   <!-- make_results: TABLE BEGIN --> ... <!-- make_results: TABLE END -->
+set -euo pipefail
+here=$(cd "$(dirname "$0")/.." && pwd)
+build=${1:-build}
+bench=${2:-$here/../shared/bench}
+shift $(( $# < 2 ? $# : 2 ))
+tables=("$@")
+[ ${#tables[@]} -gt 0 ] || tables=(layout map remesh-0.5 remesh-1 accuracy)
+results="$here/doc/results.md"
+cd "$here"
+
+need() {
+  [ -x "$1" ] || { echo "make_results: $1 not found; build it first (cmake --build $build --target $(basename "$1"))" >&2; exit 1; }
+}
+
+# Replaces the text between the markers of table $1 in doc/results.md with the contents of file $2.
+replace() {
+  local name=$1 body=$2 out
+  grep -q "<!-- make_results: $name BEGIN -->" "$results" || { echo "make_results: no markers for $name in $results" >&2; exit 1; }
+  out=$(mktemp)
+  awk -v name="$name" -v body="$body" '
+    $0 == "<!-- make_results: " name " BEGIN -->" { print; while ((getline line < body) > 0) print line; skip = 1; next }
+    $0 == "<!-- make_results: " name " END -->" { skip = 0 }
+    !skip { print }' "$results" > "$out"
+  mv "$out" "$results"
+}
+
+tmp=$(mktemp)
+trap 'rm -f "$tmp"' EXIT
+for t in "${tables[@]}"; do
+  echo "make_results: $t" >&2
+  case "$t" in
+    layout)     need "$build/benchmark/bench_layout"; "$build/benchmark/bench_layout" "$bench" > "$tmp" ;;
+    map)        need "$build/benchmark/bench_map"; "$build/benchmark/bench_map" "$bench" > "$tmp" ;;
+    remesh-0.5) need "$build/benchmark/bench_remesh"; "$build/benchmark/bench_remesh" "$bench" 0.5 > "$tmp" ;;
+    remesh-1)   need "$build/benchmark/bench_remesh"; "$build/benchmark/bench_remesh" "$bench" 1.0 > "$tmp" ;;
+    accuracy)
+      need "$build/test/test_map"
+      { echo '```text'
+        "$build/test/test_map" --gtest_filter='Shared*' | grep '^\[ accuracy \]'
+        echo '```'; } > "$tmp" ;;
+    *) echo "make_results: unknown table '$t' (layout, map, remesh-0.5, remesh-1, accuracy)" >&2; exit 2 ;;
+  esac
+  # The bench programs print a header line, a blank line and a table; drop trailing blank lines.
+  sed -i -e :a -e '/^\n*$/{$d;N;ba' -e '}' "$tmp"
+  replace "$t" "$tmp"
+done
