@@ -44,7 +44,7 @@ public:
 
   /// Untangles the folds of M_st along the target. Every face is tested by the verifier's rule
   /// (flipped_on_target()), which also sets `s.folded` and `s.n_flipped`. Where F is this anisotropic, no M_st that is F of a one-to-one M_s avoids the
-  /// fold (§10.5 of the manual), so these vertices of the target-shaped mesh leave F: they move along the
+  /// fold (doc/algorithms.md, "Where F is strongly anisotropic"), so these vertices of the target-shaped mesh leave F: they move along the
   /// target, their source vertices stay. Each folded face f is untangled in a chart of the target with the
   /// outline of a region around it and the feature vertices held: first in the plane of the mean target normal
   /// under the k-ring of f (k = 1 ... 8, while the ring is flat enough for a plane: untangle_ring()), then, if
