@@ -402,9 +402,10 @@ inline void write_morph(const Options& o, const Polygon_soup& a, const Polygon_s
   for (const auto* soup : {&a, &b})
     for (const auto& p : soup->points)
       for (int i = 0; i < 3; ++i) ro.frame_min[i] = std::min(ro.frame_min[i], p[i]), ro.frame_max[i] = std::max(ro.frame_max[i], p[i]);
-  // The strip: up to strip_frames_max frames side by side, spread along the picture's horizontal.
+  // The strip: up to strip_frames_max frames side by side, from left to right along the picture's horizontal
+  // (seen from view_direction with `up` up, the picture's right is up x view_direction).
   Render_mesh strip;
-  const std::array<double, 3> right = unit3(cross3(o.render.view_direction, o.render.up));
+  const std::array<double, 3> right = unit3(cross3(o.render.up, o.render.view_direction));
   double width = 0;
   for (int i = 0; i < 3; ++i) width += (ro.frame_max[i] - ro.frame_min[i]) * std::abs(right[i]);
   const unsigned strip_frames = std::min(o.frames, strip_frames_max);
