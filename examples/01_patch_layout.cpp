@@ -7,7 +7,7 @@
 // Shows the generic API: a Polyhedron_3 source, a Surface_mesh target, outputs through property maps.
 #include <crossparam/io.h>
 #include <crossparam/patch_layout.h>
-#include <crossparam/shapes.h>
+#include <support/shapes.h>
 
 #include <CGAL/Polyhedron_3.h>
 #include <CGAL/Polyhedron_items_with_id_3.h>

@@ -2,7 +2,7 @@
 // Patch layouts (paper §3): randomized property tests on generated genus-0 meshes, generic mesh types,
 // property-map outputs, bad input, and the verifier's ability to reject broken layouts.
 #include <crossparam/patch_layout.h>
-#include <crossparam/shapes.h>
+#include <support/shapes.h>
 
 #include <CGAL/Polyhedron_3.h>
 #include <CGAL/Polyhedron_items_with_id_3.h>

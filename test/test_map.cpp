@@ -4,7 +4,7 @@
 #include <crossparam/cross_parameterization.h>
 #include <crossparam/io.h>
 #include <crossparam/remeshing_verification.h>
-#include <crossparam/shapes.h>
+#include <support/shapes.h>
 
 #include <CGAL/Polygon_mesh_processing/locate.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>

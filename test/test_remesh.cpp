@@ -6,7 +6,7 @@
 #include <crossparam/io.h>
 #include <crossparam/morph.h>
 #include <crossparam/remeshing_verification.h>
-#include <crossparam/shapes.h>
+#include <support/shapes.h>
 
 #include <gtest/gtest.h>
 

@@ -2,7 +2,7 @@
 // The generated inputs (shapes.h) are what the self-contained tests and the demo stand on: closed, valid,
 // one component, the right genus, outward, deterministic.
 #include <crossparam/io.h>
-#include <crossparam/shapes.h>
+#include <support/shapes.h>
 
 #include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>

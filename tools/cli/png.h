@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// A minimal PNG writer (8-bit RGB, stored deflate blocks, no compression library needed) for textures.
-#ifndef CROSSPARAM_INTERNAL_PNG_H
-#define CROSSPARAM_INTERNAL_PNG_H
+// A minimal PNG writer (8-bit RGB, stored deflate blocks, no compression library needed) for the CLI's
+// checkerboard texture.
+#ifndef CROSSPARAM_CLI_PNG_H
+#define CROSSPARAM_CLI_PNG_H
 
 #include <array>
 #include <cstdint>
@@ -10,7 +11,7 @@
 #include <vector>
 
 namespace crossparam {
-namespace internal {
+namespace cli {
 
 inline std::uint32_t crc32(const unsigned char* data, std::size_t n, std::uint32_t crc = 0xffffffffu) {
   for (std::size_t i = 0; i < n; ++i) {
@@ -75,7 +76,7 @@ inline void write_png(std::ostream& os, int width, int height, const std::vector
   chunk("IEND", {});
 }
 
-} // namespace internal
+} // namespace cli
 } // namespace crossparam
 
-#endif // CROSSPARAM_INTERNAL_PNG_H
+#endif // CROSSPARAM_CLI_PNG_H

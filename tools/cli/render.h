@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Pictures: a colored triangle mesh rendered to PNG with POV-Ray (Debian package `povray`), headless.
-// Used by the CLI (`--png`) and to make the figures in doc/. Not needed by the algorithms.
-#ifndef CROSSPARAM_RENDER_H
-#define CROSSPARAM_RENDER_H
+// Pictures for the CLI's --png: a coloured triangle mesh rendered to PNG with POV-Ray (Debian package
+// `povray`), headless, through std::system. Part of the command-line tool, not of the library.
+#ifndef CROSSPARAM_CLI_RENDER_H
+#define CROSSPARAM_CLI_RENDER_H
 
 #include <crossparam/errors.h>
 
@@ -16,6 +16,7 @@
 #include <vector>
 
 namespace crossparam {
+namespace cli {
 
 /// What to draw and how. Colors are per vertex (interpolated) if `vertex_colors` is non-empty, else per face.
 struct Render_mesh {
@@ -42,7 +43,6 @@ struct Render_options {
 /// True if the `povray` executable can be found on PATH.
 inline bool povray_available() { return std::system("command -v povray >/dev/null 2>&1") == 0; }
 
-namespace internal {
 inline std::array<double, 3> sub3(const std::array<double, 3>& a, const std::array<double, 3>& b) {
   return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
 }
@@ -55,7 +55,6 @@ inline std::array<double, 3> unit3(std::array<double, 3> a) {
     for (double& x : a) x /= n;
   return a;
 }
-} // namespace internal
 
 /// Renders `mesh` to the PNG file `png_path` with POV-Ray. Throws Error with a clear message if POV-Ray is
 /// not installed or fails. The PNG is written through a temporary file and renamed.
@@ -85,8 +84,8 @@ inline void render_png(const Render_mesh& mesh, const std::string& png_path, con
   // Smooth vertex normals (area weighted).
   std::vector<std::array<double, 3>> normal(mesh.points.size(), {0, 0, 0});
   for (const auto& t : mesh.triangles) {
-    auto n = internal::cross3(internal::sub3(P(mesh.points[t[1]]), P(mesh.points[t[0]])),
-                              internal::sub3(P(mesh.points[t[2]]), P(mesh.points[t[0]])));
+    auto n = cross3(sub3(P(mesh.points[t[1]]), P(mesh.points[t[0]])),
+                              sub3(P(mesh.points[t[2]]), P(mesh.points[t[0]])));
     for (std::size_t k : t)
       for (int i = 0; i < 3; ++i) normal[k][i] += n[i];
   }
@@ -102,7 +101,7 @@ inline void render_png(const Render_mesh& mesh, const std::string& png_path, con
       // POV-Ray is left-handed: mirror z.
       os << "<" << p[0] << "," << p[1] << "," << -p[2] << ">";
     };
-    auto dirn = internal::unit3(opt.view_direction);
+    auto dirn = unit3(opt.view_direction);
     double dist = 3.2 / opt.zoom;
     std::array<double, 3> cam{dirn[0] * dist, dirn[1] * dist, dirn[2] * dist};
     os << "#version 3.7;\nglobal_settings { assumed_gamma 1.0 }\n";
@@ -114,12 +113,12 @@ inline void render_png(const Render_mesh& mesh, const std::string& png_path, con
     v3(opt.up);
     os << " look_at <0,0,0> angle 38 right x*" << double(opt.width) / opt.height << " }\n";
     auto light = [&](std::array<double, 3> d, double s) {
-      d = internal::unit3(d);
+      d = unit3(d);
       os << "light_source { ";
       v3({d[0] * 10, d[1] * 10, d[2] * 10});
       os << " color rgb <" << s << "," << s << "," << s << "> }\n";
     };
-    auto side = internal::unit3(internal::cross3(opt.up, dirn));
+    auto side = unit3(cross3(opt.up, dirn));
     light({dirn[0] + side[0] * 0.6 + opt.up[0] * 0.8, dirn[1] + side[1] * 0.6 + opt.up[1] * 0.8,
            dirn[2] + side[2] * 0.6 + opt.up[2] * 0.8},
           0.85);
@@ -132,7 +131,7 @@ inline void render_png(const Render_mesh& mesh, const std::string& png_path, con
     os << " }\n normal_vectors { " << normal.size();
     for (const auto& n : normal) {
       os << ",\n";
-      v3(internal::unit3(n));
+      v3(unit3(n));
     }
     const bool per_vertex = !mesh.vertex_colors.empty();
     const auto& colors = per_vertex ? mesh.vertex_colors : mesh.face_colors;
@@ -169,6 +168,7 @@ inline void render_png(const Render_mesh& mesh, const std::string& png_path, con
   if (ec) throw Error("cannot render " + png_path + ": " + ec.message());
 }
 
+} // namespace cli
 } // namespace crossparam
 
-#endif // CROSSPARAM_RENDER_H
+#endif // CROSSPARAM_CLI_RENDER_H

@@ -1,13 +1,14 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Self-contained input meshes generated in code (no files): two different "creatures" with semantically
 // corresponding feature vertices, randomly deformed spheres with random feature correspondences, and a torus.
-// Used by the built-in example of the CLI, the tests and the documentation.
+// Used by the CLI's demo, the tests and the examples (CMake target crossparam_shapes); not installed with the
+// library.
 //
 // Every generator is deterministic: the same arguments give the same mesh (same vertex order, same faces,
 // bit-identical coordinates) on every call and every run. Random numbers come from std::mt19937 raw outputs
 // only (no std:: distributions, whose algorithms are implementation-defined).
-#ifndef CROSSPARAM_SHAPES_H
-#define CROSSPARAM_SHAPES_H
+#ifndef CROSSPARAM_EXAMPLES_SUPPORT_SHAPES_H
+#define CROSSPARAM_EXAMPLES_SUPPORT_SHAPES_H
 
 #include <crossparam/errors.h>
 #include <crossparam/types.h>
@@ -933,4 +934,4 @@ inline Surface_mesh make_torus(double major_radius = 1.0, double minor_radius = 
 } // namespace shapes
 } // namespace crossparam
 
-#endif // CROSSPARAM_SHAPES_H
+#endif // CROSSPARAM_EXAMPLES_SUPPORT_SHAPES_H

@@ -1,0 +1,149 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The CLI's arguments: the usage text, the options of every command and their parsing. Bad usage throws
+// Usage_error (exit code 2); `-h`/`--help` throws it with an empty message (print the usage, exit 0).
+#ifndef CROSSPARAM_CLI_OPTIONS_H
+#define CROSSPARAM_CLI_OPTIONS_H
+
+#include "render.h"
+
+#include <array>
+#include <cstdlib>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace crossparam {
+namespace cli {
+
+inline const char* const usage_text =
+    "usage: crossparam <command> [options]\n"
+    "\n"
+    "commands:\n"
+    "  layout SOURCE TARGET --features FILE -o DIR\n"
+    "      topologically identical triangular patch layouts of two closed genus-0 meshes (paper section 3)\n"
+    "  map SOURCE TARGET --features FILE -o DIR\n"
+    "      cross-parameterization (paper section 4): the bijective map between the meshes, certified\n"
+    "  remesh SOURCE TARGET --features FILE -o DIR [--tolerance PCT]\n"
+    "      compatible remeshing (paper section 5): two meshes with one connectivity, one reproducing SOURCE,\n"
+    "      the other approximating TARGET\n"
+    "  morph A B --frames N -o DIR\n"
+    "      N meshes interpolating between two compatible meshes (e.g. the outputs of remesh)\n"
+    "  demo -o DIR\n"
+    "      generate two creatures in code, pick corresponding features, run the whole pipeline on them\n"
+    "      (layout, map, remesh, and a morph sequence)\n"
+    "\n"
+    "options:\n"
+    "  --features FILE   feature correspondence: one 'source_vertex target_vertex' pair per line,\n"
+    "                    0-based indices in file order, '#' starts a comment\n"
+    "  -o, --output DIR  output directory (created if missing)\n"
+    "  --no-flips        skip the path flips of section 3.3\n"
+    "  --iterations N    smoothing passes at most (map; default 200)\n"
+    "  --no-smoothing    skip the smoothing of section 4.2 (map)\n"
+    "  --no-protrusion-features\n"
+    "                    use only the given features (map, remesh, demo): no pairs added at the tips of\n"
+    "                    squeezed protrusions\n"
+    "  --tolerance PCT   remesh: approximation tolerance in percent of the target's bounding-box diagonal\n"
+    "                    (default 0.5)\n"
+    "  --threads N       map, remesh, demo: threads for the smoothing of the two meshes and the error\n"
+    "                    measurements (default 0: one per hardware thread); the results are the same for any N\n"
+    "  --frames N        morph: number of meshes written, both ends included (default 9)\n"
+    "  --png             also render pictures of the results (needs POV-Ray: apt-get install povray)\n"
+    "  --up X,Y,Z        the models' up direction in the pictures (default 0,0,1)\n"
+    "  --view X,Y,Z      direction from the model towards the camera (default 1,-1.6,0.6)\n"
+    "  --quiet           print nothing but errors\n"
+    "  -h, --help        this text\n"
+    "\n"
+    "meshes: OFF, OBJ, PLY or STL; closed, manifold, one component, genus 0.\n";
+
+/// Bad usage: exit code 2. An empty message asks for the usage text (exit code 0).
+struct Usage_error : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// Every command's options, with their defaults.
+struct Options {
+  std::string command;
+  std::vector<std::string> positional;
+  std::string features;
+  std::string output;
+  bool flips = true;
+  bool quiet = false;
+  bool png = false;
+  bool smoothing = true;
+  bool protrusion_features = true;
+  unsigned iterations = 200;
+  double tolerance = 0.5;
+  unsigned threads = 0;
+  unsigned frames = 9;
+  Render_options render;
+};
+
+/// Largest accepted `--iterations`, `--threads` and `--frames`: far above any useful value, low enough that a
+/// typing error does not start a run of days or a million threads.
+constexpr unsigned long max_iterations = 100000, max_threads = 1024, max_frames = 10000;
+
+/// `X,Y,Z`: three numbers, not all zero, or a usage error naming the option `name`.
+inline std::array<double, 3> parse_vector(const std::string& name, const std::string& v) {
+  std::array<double, 3> out{};
+  std::istringstream is(v);
+  char c1 = 0, c2 = 0;
+  if (!(is >> out[0] >> c1 >> out[1] >> c2 >> out[2]) || c1 != ',' || c2 != ',' || !is.eof() ||
+      !(out[0] * out[0] + out[1] * out[1] + out[2] * out[2] > 0))
+    throw Usage_error(name + " needs three numbers X,Y,Z, not all zero");
+  return out;
+}
+
+/// A whole number in [lo, hi] written in decimal digits alone, or a usage error with `message`.
+inline unsigned whole_number(const std::string& v, unsigned long lo, unsigned long hi, const char* message) {
+  char* end = nullptr;
+  const unsigned long n = std::strtoul(v.c_str(), &end, 10);
+  if (v.empty() || *end != '\0' || n < lo || n > hi) throw Usage_error(message);
+  return unsigned(n);
+}
+
+/// A percentage in (0, 100], or a usage error naming `--tolerance`.
+inline double tolerance_percent(const std::string& v) {
+  char* end = nullptr;
+  const double t = std::strtod(v.c_str(), &end);
+  if (v.empty() || *end != '\0' || !(t > 0) || !(t <= 100)) throw Usage_error("--tolerance needs a percentage in (0, 100]");
+  return t;
+}
+
+/// The command line: argv[1] is the command, then options and positional arguments in any order.
+inline Options parse(int argc, char** argv) {
+  Options o;
+  o.render.up = {0, 0, 1};
+  o.render.view_direction = {1, -1.6, 0.6};
+  if (argc < 2) throw Usage_error("missing command");
+  o.command = argv[1];
+  for (int i = 2; i < argc; ++i) {
+    std::string a = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) throw Usage_error("option " + a + " needs a value");
+      return argv[++i];
+    };
+    if (a == "--features") o.features = value();
+    else if (a == "-o" || a == "--output") o.output = value();
+    else if (a == "--no-flips") o.flips = false;
+    else if (a == "--png") o.png = true;
+    else if (a == "--no-smoothing") o.smoothing = false;
+    else if (a == "--no-protrusion-features") o.protrusion_features = false;
+    else if (a == "--up") o.render.up = parse_vector(a, value());
+    else if (a == "--view") o.render.view_direction = parse_vector(a, value());
+    else if (a == "--iterations") o.iterations = whole_number(value(), 0, max_iterations, "--iterations needs a whole number up to 100000");
+    else if (a == "--threads") o.threads = whole_number(value(), 0, max_threads, "--threads needs a whole number up to 1024");
+    else if (a == "--tolerance") o.tolerance = tolerance_percent(value());
+    else if (a == "--frames") o.frames = whole_number(value(), 2, max_frames, "--frames needs a whole number from 2 to 10000");
+    else if (a == "--quiet" || a == "-q") o.quiet = true;
+    else if (a == "-h" || a == "--help") throw Usage_error("");
+    else if (!a.empty() && a[0] == '-') throw Usage_error("unknown option " + a);
+    else o.positional.push_back(a);
+  }
+  return o;
+}
+
+} // namespace cli
+} // namespace crossparam
+
+#endif // CROSSPARAM_CLI_OPTIONS_H
