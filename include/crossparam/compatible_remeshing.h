@@ -343,7 +343,7 @@ private:
     stats_.seconds_total = sec(t0, clock::now());
     say("remesh: " + std::to_string(stats_.output_vertices) + " vertices (source " +
         std::to_string(stats_.source_vertices) + "), max error " + fmt(stats_.max_error) + "%, L2 " +
-        fmt(stats_.l2_error) + "%, PSNR " + fmt(stats_.psnr) + (stats_.converged ? "" : " (tolerance not reached)"));
+        fmt(stats_.l2_error) + "%, PSNR " + fmt(stats_.psnr) + (stats_.converged ? "" : " (the e(v) bound not met everywhere; the verification decides)"));
   }
 
   static double sec(clock::time_point a, clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
