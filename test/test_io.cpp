@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Tests of crossparam/io.h: our own soup readers, mesh validation, feature files and atomic writing.
-// Bad inputs are generated into a temporary directory at test time.
+// Tests of crossparam/io.h and crossparam/validation.h: our own soup readers, mesh validation, feature files,
+// the input checks of the entry points and atomic writing. Bad inputs are generated into a temporary directory
+// at test time.
+#include <crossparam/validation.h> // first: it must stand on its own, without the I/O headers
 #include <crossparam/io.h>
+#include <crossparam/parameters.h>
 
 #include <CGAL/Polyhedron_3.h>
 #include <CGAL/Polyhedron_items_with_id_3.h>
@@ -1076,6 +1079,71 @@ TEST(Features, OutOfRangeDuplicatesAndTooFew) {
   EXPECT_NO_THROW(crossparam::validate_feature_pairs(fc, 10, 20, "ctx"));
   fc.pop_back();
   expect_error<Feature_error>([&] { crossparam::validate_feature_pairs(fc, 10, 20, "ctx"); }, {"only 3 features"});
+}
+
+// ================================================================================================ entry-point checks
+
+TEST(EntryChecks, ValidationStandsApartFromIo) {
+  // validation.h is included first above and includes no I/O header: its guard is set, io.h's readers come
+  // from io.h alone.
+#ifndef CROSSPARAM_VALIDATION_H
+  ADD_FAILURE() << "validation.h not included";
+#endif
+  Mesh m;
+  EXPECT_EQ(crossparam::soup_to_triangle_mesh(octahedron(), m, "oct").genus, 0);
+  EXPECT_EQ(crossparam::check_triangle_mesh(m, "oct").genus, 0);
+}
+
+TEST(EntryChecks, LayoutInputsInOrderWithTheirMessages) {
+  // internal::check_layout_inputs is what compute_patch_layouts and the Cross_parameterization constructor run
+  // once: meshes (source first), genus, features, bounding boxes.
+  const auto np = crossparam::parameters::default_values();
+  Mesh oct, tet, tor, flat, open;
+  crossparam::soup_to_triangle_mesh(octahedron(), oct, "oct");
+  crossparam::soup_to_triangle_mesh(tetrahedron(), tet, "tet");
+  crossparam::soup_to_triangle_mesh(torus(), tor, "torus");
+  Soup point = tetrahedron();
+  for (auto& p : point.points) p = {1, 2, 3};
+  crossparam::soup_to_triangle_mesh(point, flat, "point"); // valid connectivity, all corners at one point
+  open = oct;
+  CGAL::Euler::remove_face(halfedge(*faces(open).begin(), open), open);
+  const Feature_correspondence f4 = {{0, 0}, {1, 1}, {2, 2}, {3, 3}};
+  EXPECT_NO_THROW(crossparam::internal::check_layout_inputs(oct, tet, f4, np, np));
+  expect_error([&] { crossparam::internal::check_layout_inputs(open, open, f4, np, np); }, {"source mesh: ", "open"});
+  expect_error([&] { crossparam::internal::check_layout_inputs(oct, open, f4, np, np); }, {"target mesh: ", "open"});
+  expect_error<crossparam::Incompatible_inputs_error>(
+      [&] { crossparam::internal::check_layout_inputs(oct, tor, f4, np, np); },
+      {"the source mesh has genus 0 but the target mesh has genus 1"});
+  expect_error<crossparam::Incompatible_inputs_error>(
+      [&] { crossparam::internal::check_layout_inputs(tor, tor, {}, np, np); },
+      {"meshes of genus 1 are not supported yet"});
+  expect_error<Feature_error>([&] { crossparam::internal::check_layout_inputs(oct, tet, {{0, 0}}, np, np); },
+                              {"feature correspondence: only 1 feature given"});
+  expect_error<Feature_error>([&] { crossparam::internal::check_layout_inputs(flat, flat, {}, np, np); },
+                              {"feature correspondence: only 0 features"});
+  expect_error([&] { crossparam::internal::check_layout_inputs(oct, flat, f4, np, np); },
+               {"mesh has a degenerate bounding box"});
+}
+
+TEST(EntryChecks, InnerEntryPointsSkipTheirChecks) {
+  namespace cp = crossparam;
+  EXPECT_FALSE(cp::internal::are_inputs_checked(cp::parameters::default_values()));
+  EXPECT_TRUE(cp::internal::are_inputs_checked(cp::internal::inputs_checked(cp::parameters::default_values())));
+  EXPECT_TRUE(cp::internal::are_inputs_checked(
+      cp::parameters::apply_smoothing(false, cp::internal::inputs_checked(cp::parameters::default_values()))));
+}
+
+TEST(EntryChecks, CompatibleSoups) {
+  const Soup a = octahedron();
+  EXPECT_NO_THROW(crossparam::check_compatible(a, a));
+  Soup b = a;
+  b.points.pop_back();
+  expect_error<crossparam::Incompatible_inputs_error>([&] { crossparam::check_compatible(a, b, "a.off", "b.off"); },
+                                                      {"a.off and b.off are not compatible: 6 vs 5 vertices"});
+  b = a;
+  std::swap(b.polygons[3][0], b.polygons[3][1]);
+  expect_error<crossparam::Incompatible_inputs_error>([&] { crossparam::check_compatible(a, b); },
+                                                      {"A and B are not compatible: face 3 has different vertices"});
 }
 
 // ================================================================================================ writing

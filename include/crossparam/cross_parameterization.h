@@ -89,14 +89,15 @@ public:
     const unsigned threads_requested = choose_parameter(get_parameter(np_source, internal_np::number_of_threads_t()), 0u);
     threads_ = internal::thread_count(threads_requested);
 
+    // Contracts first, once (the protrusion probe below is built from checked copies and skips them).
+    if (!internal::are_inputs_checked(np_source)) internal::check_layout_inputs(tm_s, tm_t, features, np_source, np_target);
+
     // Protrusion features: a first map, on copies of the meshes, finds the protrusions it squeezes; a feature
     // pair at each tip makes the limb a corner of the base domain instead of a spot inside a patch.
     features_ = features;
     if (choose_parameter(get_parameter(np_source, internal_np::protrusion_features_t()), true)) {
-      // Copies in the same vertex order, so that feature indices carry over; validated first, as the copy
-      // assumes a closed manifold mesh.
-      check_triangle_mesh(tm_s, "source mesh");
-      check_triangle_mesh(tm_t, "target mesh");
+      // Copies in the same vertex order, so that feature indices carry over (the copy assumes the checked,
+      // closed manifold meshes).
       Surface_mesh cs, ct;
       internal::copy_in_order(tm_s, choose_parameter(get_parameter(np_source, CGAL::internal_np::vertex_point),
                                                      get_const_property_map(CGAL::vertex_point, tm_s)), cs);
@@ -108,9 +109,9 @@ public:
       const bool consistent = choose_parameter(get_parameter(np_source, internal_np::consistent_paths_t()), true);
       Cross_parameterization<Surface_mesh, Surface_mesh> probe(
           cs, ct, features,
-          protrusion_features(false, smoothing_weights(weights, smoothing_tolerance(so.tolerance,
+          internal::inputs_checked(protrusion_features(false, smoothing_weights(weights, smoothing_tolerance(so.tolerance,
               apply_smoothing(smooth, apply_path_flips(flips, consistent_paths(consistent,
-                  number_of_threads(threads_requested, number_of_iterations(so.max_iterations)))))))));
+                  number_of_threads(threads_requested, number_of_iterations(so.max_iterations))))))))));
       const Feature_correspondence tips = probe.protrusion_tips();
       features_.insert(features_.end(), tips.begin(), tips.end());
       stats_.protrusion_features = tips.size();

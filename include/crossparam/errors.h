@@ -15,19 +15,22 @@ public:
   using std::runtime_error::runtime_error;
 };
 
-/// A file could not be read, or a mesh is not a valid input (open, non-manifold, non-finite, ...).
+/// A file could not be read, or a mesh is not a valid input (open, non-manifold, non-finite, ...). Thrown by the
+/// readers of <crossparam/io.h> and the mesh checks of <crossparam/validation.h>, also for invalid options.
 class Input_error : public Error {
 public:
   using Error::Error;
 };
 
-/// The feature correspondence is invalid (malformed line, index out of range, duplicates, too few).
+/// The feature correspondence is invalid (malformed line, index out of range, duplicates, too few). Thrown by
+/// read_feature_pairs() and validate_feature_pairs().
 class Feature_error : public Input_error {
 public:
   using Input_error::Input_error;
 };
 
-/// The two inputs are individually valid but cannot be used together (different genus, ...).
+/// The two inputs are individually valid but cannot be used together (different genus, meshes that are not
+/// compatible, ...). Thrown by the input checks of the entry points and check_compatible().
 class Incompatible_inputs_error : public Input_error {
 public:
   using Input_error::Input_error;

@@ -5,7 +5,7 @@
 #define CROSSPARAM_PATCH_LAYOUT_H
 
 #include <crossparam/errors.h>
-#include <crossparam/io.h>
+#include <crossparam/validation.h>
 #include <crossparam/parameters.h>
 #include <crossparam/types.h>
 #include <crossparam/internal/layout_builder.h>
@@ -102,7 +102,7 @@ void make_work_mesh(const TriangleMesh& tm, VertexPointMap vpm, Layout_mesh& out
     }
   double diag = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                           (hi[2] - lo[2]) * (hi[2] - lo[2]));
-  if (!(diag > 0) || !std::isfinite(diag)) throw Input_error("mesh has a degenerate bounding box");
+  CGAL_precondition(diag > 0 && std::isfinite(diag)); // internal::check_bounding_box
   out.center = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
   out.scale = diag;
   for (WV v : out.m.vertices()) {
@@ -279,19 +279,7 @@ Patch_layout compute_patch_layouts_impl(SourceMesh& tm_s, TargetMesh& tm_t, cons
   const bool flips = choose_parameter(get_parameter(np_source, internal_np::apply_path_flips_t()), true);
   const bool consistent = choose_parameter(get_parameter(np_source, internal_np::consistent_paths_t()), true);
 
-  // Contracts first: every precondition a user can violate is checked and named.
-  Mesh_check_report rs = check_triangle_mesh(tm_s, "source mesh");
-  Mesh_check_report rt = check_triangle_mesh(tm_t, "target mesh");
-  if (rs.genus != rt.genus)
-    throw Incompatible_inputs_error("the source mesh has genus " + std::to_string(rs.genus) +
-                                    " but the target mesh has genus " + std::to_string(rt.genus));
-  if (rs.genus != 0)
-    throw Incompatible_inputs_error("meshes of genus " + std::to_string(rs.genus) +
-                                    " are not supported yet: crossparam handles closed genus-0 meshes");
-  const std::size_t ns = std::size_t(std::distance(vertices(tm_s).begin(), vertices(tm_s).end()));
-  const std::size_t nt = std::size_t(std::distance(vertices(tm_t).begin(), vertices(tm_t).end()));
-  validate_feature_pairs(features, ns, nt, "feature correspondence");
-
+  // The inputs were checked by the public entry point (internal::check_layout_inputs).
   B.do_flips = flips;
   B.consistent_paths = consistent;
   make_work_mesh(tm_s, vpm_s, B.side[0]);
@@ -367,6 +355,7 @@ template <class SourceMesh, class TargetMesh, typename NP_T1, typename NP_Tag1, 
 Patch_layout compute_patch_layouts(SourceMesh& tm_s, TargetMesh& tm_t, const Feature_correspondence& features,
                                    const CGAL::Named_function_parameters<NP_T1, NP_Tag1, NP_Base1>& np_source,
                                    const CGAL::Named_function_parameters<NP_T2, NP_Tag2, NP_Base2>& np_target) {
+  internal::check_layout_inputs(tm_s, tm_t, features, np_source, np_target);
   internal::Layout_builder B;
   return internal::compute_patch_layouts_impl(tm_s, tm_t, features, np_source, np_target, B, false);
 }
