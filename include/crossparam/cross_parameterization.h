@@ -277,9 +277,9 @@ public:
 
   // ---- the refined meshes (types.h, "Refined meshes") ----
 
-  /// The refined copy of mesh `side` in working coordinates: vertex i is vertex i of the user's refined mesh,
-  /// face f is face f of the refined `faces(tm)` order (its corners possibly in another rotation, and in the
-  /// opposite order if the user's faces point inward). Smoothing-weights policies see this mesh.
+  /// The refined copy of mesh `side` in working coordinates (types.h, "Refined meshes"): vertex i is vertex i
+  /// of the user's refined mesh; its faces are those of the user's refined mesh as vertex triples, in an order
+  /// of their own, oriented outward. Smoothing-weights policies see this mesh; `Refined_location`s are on it.
   const Refined_mesh& working_mesh(Mesh_side side) const { return B_.side[internal::side_index(side)].m; }
 
   /// A point of `working_mesh(side)` in the user's coordinates (undoes the working translation and scale; the

@@ -33,12 +33,13 @@ which smoothing never changes: only the vertices' base locations move.
 
 \cgalHasModel `crossparam::Mean_value_weights` (the default)
 
-Required types: none.
+Required types: none. A model is `CopyConstructible`: each mesh is smoothed with its own copy of the policy.
 
 Required member functions (`w` a model, `cw` a const one, `m` a `const crossparam::Refined_mesh&`,
 `h` a `crossparam::Refined_halfedge` of `m`):
-- `w.prepare(m)`: called once per mesh before the first smoothing pass, with that mesh (source, then target:
-  each mesh has its own copy of the policy). Computes whatever the weights need.
+- `w.prepare(m)`: called on each mesh's copy once, before the first smoothing pass, with that mesh (the source's
+  copy, then the target's). Computes whatever the weights need; `m` outlives the smoothing. With
+  `protrusion_features` (default on), a first map on copies of the meshes prepares copies of its own too.
 - `double cw(h)`: the weight of vertex `target(h, m)` in the average for vertex `source(h, m)`; must be
   positive and finite. Called during every pass, for each outgoing halfedge of each vertex that is not a
   feature, from the pass's thread (one thread per mesh); it must not modify the model.
