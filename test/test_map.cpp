@@ -18,6 +18,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <random>
 
@@ -33,7 +34,7 @@ namespace {
 /// twisted correspondences, whose maps are very distorted whatever the smoothing does).
 template <class CP>
 void expect_map_invariants(const CP& cp, const Feature_correspondence& f, bool strictly_better = true) {
-  for (int side = 0; side < 2; ++side) {
+  for (Mesh_side side : {Mesh_side::source, Mesh_side::target}) {
     const Bijectivity_certificate& c = cp.certificate(side);
     EXPECT_TRUE(c.valid) << c.message;
     EXPECT_EQ(c.not_positive, 0u);
@@ -48,18 +49,18 @@ void expect_map_invariants(const CP& cp, const Feature_correspondence& f, bool s
     EXPECT_LE(S.distortion.angular, S.distortion_initial.angular) << "smoothing must not raise the angular distortion";
   }
   // Every feature maps exactly onto its partner (and back), reported against the input meshes.
-  const auto& W = cp.work();
+  const auto& S_in = internal::Cross_parameterization_access::layout_mesh(cp, Mesh_side::source);
+  const auto& T_in = internal::Cross_parameterization_access::layout_mesh(cp, Mesh_side::target);
   for (std::size_t k = 0; k < f.size(); ++k) {
     Input_location l = cp.source_vertex_to_target_input(f[k].source);
-    const auto& T = W.side[1];
     double at = 0;
     for (int i = 0; i < 3; ++i)
-      if (T.orig_tri[l.face][i] == f[k].target) at = l.b[i];
+      if (T_in.orig_tri[l.face][i] == f[k].target) at = l.b[i];
     EXPECT_EQ(at, 1.0) << "feature " << k;
     Input_location r = cp.target_vertex_to_source_input(f[k].target);
     double back = 0;
     for (int i = 0; i < 3; ++i)
-      if (W.side[0].orig_tri[r.face][i] == f[k].source) back = r.b[i];
+      if (S_in.orig_tri[r.face][i] == f[k].source) back = r.b[i];
     EXPECT_EQ(back, 1.0) << "feature " << k << " (inverse)";
   }
 }
@@ -82,7 +83,149 @@ double max_round_trip_error(const Map& cp, const Surface_mesh& s, std::size_t sa
   return worst;
 }
 
+/// Vertices of mesh `side` whose base locations differ (bit for bit) between two maps of the same inputs.
+template <class CP>
+std::size_t base_locations_differing(const CP& one, const CP& two, Mesh_side side) {
+  const std::size_t n = one.working_mesh(side).number_of_vertices();
+  if (two.working_mesh(side).number_of_vertices() != n) return std::max<std::size_t>(n, 1);
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Base_location &p = one.base_location(side, i), &q = two.base_location(side, i);
+    differ += p.tri != q.tri || p.b != q.b;
+  }
+  return differ;
+}
+
+// Two smoothing-weights policies a user can write from the public types alone (concept SmoothingWeights,
+// smoothing.h): no header of internal/ and no name of crossparam::internal is needed.
+
+/// The default mean-value weights, counting its calls to prepare(): must give the default map, bit for bit.
+struct Counting_mean_value_weights {
+  crossparam::Mean_value_weights weights;
+  std::shared_ptr<int> prepared = std::make_shared<int>(0); ///< shared by the copies the map makes
+  void prepare(const crossparam::Refined_mesh& m) {
+    weights.prepare(m);
+    ++*prepared;
+  }
+  double operator()(crossparam::Refined_halfedge h) const { return weights(h); }
+};
+
+/// Inverse edge lengths of the refined mesh (a different, still valid, map).
+struct Inverse_length_weights {
+  std::vector<double> w;
+  void prepare(const crossparam::Refined_mesh& m) {
+    w.assign(m.number_of_halfedges(), 1.0);
+    for (crossparam::Refined_halfedge h : m.halfedges()) {
+      const double l = std::sqrt(CGAL::squared_distance(m.point(m.source(h)), m.point(m.target(h))));
+      if (l > 0) w[h] = 1.0 / l;
+    }
+  }
+  double operator()(crossparam::Refined_halfedge h) const { return w[h]; }
+};
+
 } // namespace
+
+// A user-written weights policy is taken through the smoothing_weights named parameter; one that reproduces
+// the default weights reproduces the default map exactly.
+TEST(Map, UserWeightsPolicy) {
+  const Surface_mesh a0 = shapes::make_deformed_sphere(21, 900, true), b0 = shapes::make_deformed_sphere(22, 800, true);
+  const Feature_correspondence f = shapes::random_features(a0, b0, 10, 23, false);
+  Surface_mesh a1 = a0, b1 = b0, a2 = a0, b2 = b0, a3 = a0, b3 = b0;
+  const Map standard(a1, b1, f, crossparam::parameters::protrusion_features(false));
+  Counting_mean_value_weights counting;
+  const Map same(a2, b2, f,
+                 crossparam::parameters::smoothing_weights(counting, crossparam::parameters::protrusion_features(false)));
+  EXPECT_EQ(*counting.prepared, 2) << "prepare() once per mesh";
+  EXPECT_EQ(standard.statistics().distortion.angular, same.statistics().distortion.angular);
+  EXPECT_EQ(standard.statistics().smoothing_best_iteration, same.statistics().smoothing_best_iteration);
+  for (Mesh_side side : {Mesh_side::source, Mesh_side::target})
+    EXPECT_EQ(base_locations_differing(standard, same, side), 0u) << "side " << internal::side_index(side);
+
+  const Map other(a3, b3, f, crossparam::parameters::smoothing_weights(Inverse_length_weights()));
+  expect_map_invariants(other, other.features(), false);
+  EXPECT_NE(other.statistics().distortion.angular, standard.statistics().distortion.angular);
+}
+
+// The public view of the refined meshes: the refined mesh in the user's units and oriented as the input,
+// the base atlas (positively oriented texture triangles), and locating, mapping and reporting points on the
+// refined meshes.
+TEST(Map, RefinedMeshesAndAtlas) {
+  const Surface_mesh a0 = shapes::make_deformed_sphere(31, 900, true), b0 = shapes::make_deformed_sphere(32, 800, true);
+  const Feature_correspondence f = shapes::random_features(a0, b0, 9, 33, false);
+  Surface_mesh a = a0, b = b0;
+  const Map cp(a, b, f);
+  for (Mesh_side side : {Mesh_side::source, Mesh_side::target}) {
+    SCOPED_TRACE(side == Mesh_side::source ? "source" : "target");
+    const Surface_mesh& input = side == Mesh_side::source ? a0 : b0;
+    const Surface_mesh& refined = side == Mesh_side::source ? a : b;
+    const Refined_mesh& w = cp.working_mesh(side);
+    const Indexed_triangle_mesh r = cp.refined_mesh(side);
+    ASSERT_EQ(r.points.size(), w.number_of_vertices());
+    ASSERT_EQ(r.points.size(), refined.number_of_vertices());
+    ASSERT_EQ(r.faces.size(), refined.number_of_faces());
+    ASSERT_EQ(cp.input_vertices(side), input.number_of_vertices());
+    const double diagonal = internal::bbox_diagonal(input);
+    for (std::size_t v = 0; v < r.points.size(); ++v) {
+      const Point_3& p = refined.point(Surface_mesh::Vertex_index(Surface_mesh::size_type(v)));
+      EXPECT_LT(std::sqrt(CGAL::squared_distance(r.points[v], p)), 1e-12 * diagonal) << "vertex " << v;
+    }
+    // Every face is a face of the user's refined mesh, in the same cyclic order (same orientation).
+    std::map<std::array<std::size_t, 3>, std::array<std::size_t, 3>> user_faces; // sorted corners -> cyclic
+    for (auto fc : refined.faces()) {
+      std::array<std::size_t, 3> c;
+      int i = 0;
+      for (auto v : CGAL::vertices_around_face(refined.halfedge(fc), refined)) c[i++] = std::size_t(v);
+      std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
+      std::array<std::size_t, 3> key = c;
+      std::sort(key.begin(), key.end());
+      user_faces[key] = c;
+    }
+    for (std::array<std::size_t, 3> c : r.faces) {
+      std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
+      std::array<std::size_t, 3> key = c;
+      std::sort(key.begin(), key.end());
+      auto it = user_faces.find(key);
+      ASSERT_TRUE(it != user_faces.end());
+      EXPECT_EQ(it->second, c);
+    }
+    // The atlas: one triple per face, every texture triangle positively oriented (the map is one-to-one and
+    // the faces are oriented outward), the same for the same base location on both meshes.
+    const auto atlas = cp.base_atlas_coordinates(side);
+    ASSERT_EQ(atlas.size(), r.faces.size());
+    for (const auto& t : atlas) {
+      const Kernel::Point_2 p(t[0][0], t[0][1]), q(t[1][0], t[1][1]), s(t[2][0], t[2][1]);
+      EXPECT_EQ(CGAL::orientation(p, q, s), CGAL::POSITIVE);
+    }
+    // Points of the working mesh: base location and back, image on the other mesh and back, and against the
+    // input: vertex v of the input comes back at its input position.
+    auto point = [&](const Refined_location& x) { // x on working_mesh(side)
+      const Refined_halfedge h = w.halfedge(x.face);
+      return internal::barycentric_point(w.point(w.source(h)), w.point(w.target(h)), w.point(w.target(w.next(h))), x.b);
+    };
+    std::size_t checked = 0;
+    for (Refined_face fc : w.faces()) {
+      if (checked++ % 7) continue;
+      const Refined_location l{fc, {{0.2, 0.3, 0.5}}};
+      const Refined_location back = cp.locate(side, cp.base_location(side, l));
+      EXPECT_LT(std::sqrt(CGAL::squared_distance(point(l), point(back))), 1e-9);
+      const Refined_location round_trip = cp.image(other_side(side), cp.image(side, l));
+      EXPECT_LT(std::sqrt(CGAL::squared_distance(point(l), point(round_trip))), 1e-6);
+    }
+    for (std::size_t v = 0; v < cp.input_vertices(side); v += 37) {
+      const Refined_vertex wv{Refined_vertex::size_type(v)};
+      Refined_location l{w.face(w.halfedge(wv)), {{0, 0, 0}}};
+      const Refined_halfedge hf = w.halfedge(l.face);
+      const std::array<Refined_vertex, 3> corners{w.source(hf), w.target(hf), w.target(w.next(hf))};
+      for (int i = 0; i < 3; ++i)
+        if (corners[i] == wv) l.b[i] = 1;
+      const std::array<double, 3> p = cp.input_point(side, cp.to_input(side, l));
+      const Point_3& q = input.point(Surface_mesh::Vertex_index(Surface_mesh::size_type(v)));
+      EXPECT_EQ(p[0], q.x());
+      EXPECT_EQ(p[1], q.y());
+      EXPECT_EQ(p[2], q.z());
+    }
+  }
+}
 
 // Base triangles keep their true shapes, so in the 4-triangle chart of a triangle the unfolded neighbours at a
 // corner whose base angles add up to more than a full turn overlap. A point of a face spanning the triangle and
@@ -174,16 +317,11 @@ TEST(Map, SameResultOnAnyNumberOfThreads) {
   const Map one(a1, b1, f, crossparam::parameters::number_of_threads(1u));
   const Map two(a2, b2, f, crossparam::parameters::number_of_threads(2u));
   EXPECT_GT(one.statistics().smoothing_source.iterations, 0u);
-  EXPECT_GE(one.parameterization(0).loc.size(), 2u * 2048u);
+  EXPECT_GE(one.working_mesh(Mesh_side::source).number_of_vertices(), 2u * 2048u);
   EXPECT_EQ(one.statistics().smoothing_source.iterations, two.statistics().smoothing_source.iterations);
   EXPECT_EQ(one.statistics().distortion.angular, two.statistics().distortion.angular);
-  for (int side = 0; side < 2; ++side) {
-    const auto &p = one.parameterization(side).loc, &q = two.parameterization(side).loc;
-    ASSERT_EQ(p.size(), q.size());
-    std::size_t differ = 0;
-    for (std::size_t i = 0; i < p.size(); ++i) differ += p[i].tri != q[i].tri || p[i].b != q[i].b;
-    EXPECT_EQ(differ, 0u) << "side " << side;
-  }
+  for (Mesh_side side : {Mesh_side::source, Mesh_side::target})
+    EXPECT_EQ(base_locations_differing(one, two, side), 0u) << "side " << internal::side_index(side);
 }
 
 // A featureless protrusion: without the tail-tip feature, the first map squeezes the tail into a spot of its
@@ -237,8 +375,8 @@ TEST(Map, PolyhedronSource) {
   }
   soup_to_triangle_mesh(soup, a, "polyhedron");
   Cross_parameterization<Polyhedron, Surface_mesh> cp(a, b, f);
-  EXPECT_TRUE(cp.certificate(0).valid);
-  EXPECT_TRUE(cp.certificate(1).valid);
+  EXPECT_TRUE(cp.certificate(Mesh_side::source).valid);
+  EXPECT_TRUE(cp.certificate(Mesh_side::target).valid);
   std::size_t checked = 0;
   for (auto fh : faces(a)) {
     if (checked++ > 200) break;

@@ -4,9 +4,11 @@
 #ifndef CROSSPARAM_CROSS_PARAMETERIZATION_H
 #define CROSSPARAM_CROSS_PARAMETERIZATION_H
 
+#include <crossparam/certificate.h>
 #include <crossparam/metrics.h>
 #include <crossparam/patch_layout.h>
 #include <crossparam/smoothing.h>
+#include <crossparam/types.h>
 #include <crossparam/internal/base_locator.h>
 #include <crossparam/internal/parallel.h>
 
@@ -38,12 +40,9 @@ struct Cross_parameterization_statistics {
   double seconds_total = 0;            ///< layout included
 };
 
-/// A point of an input mesh reported against the mesh as the user gave it: face index in input order and
-/// barycentric coordinates with respect to that face's vertices in input order.
-struct Input_location {
-  std::size_t face = 0;
-  std::array<double, 3> b{{0, 0, 0}};
-};
+namespace internal {
+struct Cross_parameterization_access;
+} // namespace internal
 
 /// \brief The cross-parameterization between a source and a target mesh (paper §3-4), kept for queries.
 ///
@@ -52,6 +51,15 @@ struct Input_location {
 /// and proves both one-to-one (`certificate`); a failure throws `Algorithm_error`, never a silent result.
 /// Both meshes are refined in place (new vertices appended); queries take and return
 /// `CGAL::Polygon_mesh_processing::Face_location`s on the refined meshes, or `Input_location`s against the input.
+///
+/// Besides the user's meshes, the object keeps its own refined copy of each (`Refined_mesh`, types.h): the
+/// same refinement in working coordinates, queried with `Mesh_side` and `Refined_location`s (`working_mesh`,
+/// `locate`, `image`, `to_input`), or as plain arrays in the user's units (`refined_mesh`,
+/// `base_atlas_coordinates`).
+///
+/// Kernel: every computation is made on those copies with the fixed kernel `crossparam::Kernel` (EPICK: exact
+/// predicates, double constructions); the user's point type is read through `CGAL::to_double`, so any kernel's
+/// points are accepted and no `geom_traits` named parameter is taken.
 ///
 /// \tparam SourceMesh, TargetMesh models of `MutableFaceGraph` (e.g. `CGAL::Surface_mesh`, `CGAL::Polyhedron_3`).
 /// Named parameters (source pack; those of `compute_patch_layouts` apply too):
@@ -255,16 +263,132 @@ public:
   /// Image on the source of target vertex v, against the source as given.
   Input_location target_vertex_to_source_input(std::size_t v) const { return vertex_to_input(1, v); }
 
-  /// Base-domain location of vertex v of the source (side 0) or target (side 1).
-  const Base_location& base_location(int side, std::size_t v) const {
-    return P_[side][internal::WV(internal::WV::size_type(v))];
+  /// Base-domain location of vertex v (index in the refined `vertices(tm)` order) of mesh `side`.
+  const Base_location& base_location(Mesh_side side, std::size_t v) const {
+    return P_[internal::side_index(side)][internal::WV(internal::WV::size_type(v))];
   }
 
   const Patch_layout& layout() const { return layout_; }
-  const Bijectivity_certificate& certificate(int side) const { return cert_[side]; }
+  /// The bijectivity certificate of mesh `side`'s map onto the base mesh; always valid on a constructed object
+  /// (the constructor throws otherwise), kept for reporting.
+  const Bijectivity_certificate& certificate(Mesh_side side) const { return cert_[internal::side_index(side)]; }
   const Cross_parameterization_statistics& statistics() const { return stats_; }
-  /// Vertex count of the input meshes, before any refinement.
-  std::size_t input_vertices(int side) const { return B_.side[side].n_original_vertices; }
+  /// Vertex count of input mesh `side`, before any refinement.
+  std::size_t input_vertices(Mesh_side side) const { return B_.side[internal::side_index(side)].n_original_vertices; }
+
+  // ---- the refined meshes (types.h, "Refined meshes") ----
+
+  /// The refined copy of mesh `side` in working coordinates (types.h, "Refined meshes"): vertex i is vertex i
+  /// of the user's refined mesh; its faces are those of the user's refined mesh as vertex triples, in an order
+  /// of their own, oriented outward. Smoothing-weights policies see this mesh; `Refined_location`s are on it.
+  const Refined_mesh& working_mesh(Mesh_side side) const { return B_.side[internal::side_index(side)].m; }
+
+  /// A point of `working_mesh(side)` in the user's coordinates (undoes the working translation and scale; the
+  /// input vertices come back up to rounding, `input_point` gives exact positions).
+  Point_3 to_input_units(Mesh_side side, const Point_3& p) const {
+    const std::array<double, 3> q = B_.side[internal::side_index(side)].input_point(p);
+    return Point_3(q[0], q[1], q[2]);
+  }
+
+  /// The refined mesh `side` in the user's units: the points of `working_mesh(side)` through `to_input_units`
+  /// (original vertices first, in input order, then one per split), and per face of `working_mesh(side)` its
+  /// corners in halfedge order, reversed if the user's faces point inward, so the faces are oriented as the
+  /// input's.
+  Indexed_triangle_mesh refined_mesh(Mesh_side side) const {
+    const internal::Layout_mesh& L = B_.side[internal::side_index(side)];
+    Indexed_triangle_mesh out;
+    out.points.reserve(L.m.number_of_vertices());
+    for (internal::WV v : L.m.vertices()) out.points.push_back(to_input_units(side, L.m.point(v)));
+    out.faces.reserve(L.m.number_of_faces());
+    for (internal::WF f : L.m.faces()) {
+      const std::array<internal::WV, 3> vs = corners_as_input(L, f);
+      out.faces.push_back({std::size_t(vs[0]), std::size_t(vs[1]), std::size_t(vs[2])});
+    }
+    return out;
+  }
+
+  /// \brief Texture coordinates of the map: per face of `refined_mesh(side)`, the (u, v) of its three corners
+  /// (in that face's corner order) in an atlas of the base domain.
+  ///
+  /// The unit square is cut into `ceil(sqrt(T))` columns and as many rows of square tiles (T the number of
+  /// base triangles); base triangle t owns tile t (row-major from (0, 0)), and its shape (edge lengths of the
+  /// base domain) fills the tile inside a margin of a tenth of the tile. A face is placed in the frame of the
+  /// base triangle it is parameterized over, with at most one neighbour unfolded beside it (a face across a base
+  /// edge reaches into the neighbouring tile's margin). Corresponding points of the source and the target have
+  /// the same coordinates, so one texture shows the correspondence on both meshes.
+  std::vector<std::array<std::array<double, 2>, 3>> base_atlas_coordinates(Mesh_side side) const {
+    // The part of a tile around the triangle's frame, and the part the frame's longest extent fills: each
+    // base triangle is drawn at 1 - 2 * tile_margin of its tile.
+    constexpr double tile_margin = 0.1, tile_extent = 0.8;
+    const std::size_t nt = base_.tri.size();
+    const int cols = int(std::ceil(std::sqrt(double(nt))));
+    auto uv = [&](int t, const internal::Point_2& p) {
+      double lo_x = HUGE_VAL, hi_x = -HUGE_VAL, lo_y = HUGE_VAL, hi_y = -HUGE_VAL;
+      for (const auto& q : base_.q[t])
+        lo_x = std::min(lo_x, q.x()), hi_x = std::max(hi_x, q.x()), lo_y = std::min(lo_y, q.y()), hi_y = std::max(hi_y, q.y());
+      const double size = std::max(hi_x - lo_x, hi_y - lo_y);
+      const double cell = 1.0 / cols;
+      const double u = (t % cols + tile_margin + tile_extent * (p.x() - lo_x) / size) * cell;
+      const double v = (t / cols + tile_margin + tile_extent * (p.y() - lo_y) / size) * cell;
+      return std::array<double, 2>{u, v};
+    };
+    const int k = internal::side_index(side);
+    const internal::Layout_mesh& L = B_.side[k];
+    std::vector<std::array<std::array<double, 2>, 3>> out;
+    out.reserve(L.m.number_of_faces());
+    for (internal::WF f : L.m.faces()) {
+      const std::array<internal::WV, 3> vs = corners_as_input(L, f);
+      std::array<const Base_location*, 3> ls{&P_[k][vs[0]], &P_[k][vs[1]], &P_[k][vs[2]]};
+      std::array<internal::Point_2, 3> q;
+      int c, n;
+      if (!base_.canonical_frame(ls, c, n, q)) throw Algorithm_error("internal error: face outside every chart");
+      out.push_back({uv(c, q[0]), uv(c, q[1]), uv(c, q[2])});
+    }
+    return out;
+  }
+
+  /// The base location of the point `l` of `working_mesh(side)`: where the parameterization of that mesh
+  /// sends it (interpolated in the face's chart).
+  Base_location base_location(Mesh_side side, const Refined_location& l) const {
+    return P_[internal::side_index(side)].at(l.face, l.b);
+  }
+
+  /// The point of `working_mesh(side)` whose base location is `b` (the inverse of the parameterization of
+  /// that mesh). \pre `b` is a location of the base domain (`b.tri` a base triangle, barycentrics >= 0).
+  Refined_location locate(Mesh_side side, const Base_location& b) const {
+    return locator_[internal::side_index(side)].locate(b);
+  }
+
+  /// The image under the map of the point `l` of `working_mesh(side)`: a point of the other mesh's working
+  /// mesh (F for the source, F^-1 for the target).
+  Refined_location image(Mesh_side side, const Refined_location& l) const {
+    return locate(other_side(side), base_location(side, l));
+  }
+
+  /// The point `l` of `working_mesh(side)` against input mesh `side` as the user gave it.
+  Input_location to_input(Mesh_side side, const Refined_location& l) const {
+    const internal::Layout_mesh& L = B_.side[internal::side_index(side)];
+    const int o = L.forig[l.face];
+    internal::WH h = L.m.halfedge(l.face);
+    internal::WV vs[3] = {L.m.source(h), L.m.target(h), L.m.target(L.m.next(h))};
+    Input_location r;
+    r.face = std::size_t(o);
+    for (int i = 0; i < 3; ++i) {
+      std::array<double, 3> rep;
+      if (!L.rep_in(vs[i], o, rep)) throw Algorithm_error("internal error: refined face outside its input face");
+      for (int j = 0; j < 3; ++j) r.b[j] += l.b[i] * rep[j];
+    }
+    return r;
+  }
+
+  /// The point of input mesh `side` at `l`, in the user's coordinates, from the input's points as given.
+  std::array<double, 3> input_point(Mesh_side side, const Input_location& l) const {
+    const internal::Layout_mesh& L = B_.side[internal::side_index(side)];
+    std::array<double, 3> q{{0, 0, 0}};
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) q[k] += l.b[i] * L.input_points[L.orig_tri[l.face][i]][k];
+    return q;
+  }
   /// The features of the map: the user's, then the protrusion features added (statistics().protrusion_features).
   const Feature_correspondence& features() const { return features_; }
 
@@ -369,37 +493,47 @@ public:
     return out;
   }
 
-  // ---- internals exposed for the remeshing stage and the CLI ----
+  // ---- for stage 3 and the CLI until they use the public API above: to be removed ----
+  // work().side[k].m -> working_mesh(side); work().side[k].n_original_vertices -> input_vertices(side);
+  // work().side[k].input_point(p) -> to_input_units(side, p); parameterization(k)[v] -> base_location(side, v);
+  // locator(k).locate(b) -> locate(side, b); map_work -> image; work_to_base -> base_location;
+  // work_to_input -> to_input; base_mesh() with the CLI's checkerboard -> base_atlas_coordinates(side);
+  // the int overloads -> Mesh_side. What stage 3 copies and refines (the source's Layout_mesh and
+  // Base_parameterization) it reads through internal::Cross_parameterization_access.
   const internal::Layout_builder& work() const { return B_; }
   const internal::Base_parameterization& parameterization(int side) const { return P_[side]; }
   const internal::Base_locator& locator(int side) const { return locator_[side]; }
   const internal::Base_mesh& base_mesh() const { return base_; }
-
-  /// The image of work location l of mesh `side` on the other mesh (work faces).
   internal::Work_location map_work(int side, const internal::Work_location& l) const {
-    return locator_[1 - side].locate(work_to_base(side, l));
+    return image(side ? Mesh_side::target : Mesh_side::source, l);
   }
-
-  /// Base location of a work location.
-  Base_location work_to_base(int side, const internal::Work_location& l) const { return P_[side].at(l.face, l.b); }
-
-  /// A work location on mesh `side` as an input location (face of the input, barycentrics in input order).
+  Base_location work_to_base(int side, const internal::Work_location& l) const {
+    return base_location(side ? Mesh_side::target : Mesh_side::source, l);
+  }
   Input_location work_to_input(int side, const internal::Work_location& l) const {
-    const internal::Layout_mesh& L = B_.side[side];
-    const int o = L.forig[l.face];
-    internal::WH h = L.m.halfedge(l.face);
-    internal::WV vs[3] = {L.m.source(h), L.m.target(h), L.m.target(L.m.next(h))};
-    Input_location r;
-    r.face = std::size_t(o);
-    for (int i = 0; i < 3; ++i) {
-      std::array<double, 3> rep;
-      if (!L.rep_in(vs[i], o, rep)) throw Algorithm_error("internal error: refined face outside its input face");
-      for (int j = 0; j < 3; ++j) r.b[j] += l.b[i] * rep[j];
-    }
-    return r;
+    return to_input(side ? Mesh_side::target : Mesh_side::source, l);
   }
+  const Base_location& base_location(int side, std::size_t v) const {
+    return base_location(side ? Mesh_side::target : Mesh_side::source, v);
+  }
+  const Bijectivity_certificate& certificate(int side) const {
+    return certificate(side ? Mesh_side::target : Mesh_side::source);
+  }
+  std::size_t input_vertices(int side) const { return input_vertices(side ? Mesh_side::target : Mesh_side::source); }
+  // ---- end of the section to be removed ----
 
 private:
+  friend struct internal::Cross_parameterization_access;
+
+  /// The corners of face f of L's mesh in halfedge order, the last two swapped if the input faces point
+  /// inward (L.reversed): the corner order of the user's face.
+  static std::array<internal::WV, 3> corners_as_input(const internal::Layout_mesh& L, internal::WF f) {
+    const internal::WH h = L.m.halfedge(f);
+    std::array<internal::WV, 3> vs{L.m.source(h), L.m.target(h), L.m.target(L.m.next(h))};
+    if (L.reversed) std::swap(vs[1], vs[2]);
+    return vs;
+  }
+
   /// Each vertex's stretch in a parameterization over the median one; empty if the median is not positive.
   static std::vector<double> relative_stretch(const internal::Base_parameterization& P) {
     std::vector<double> s = P.vertex_stretch(), sorted = s;
@@ -601,7 +735,7 @@ private:
       const auto& rep = B_.side[1 - side].vrep[partner];
       return {std::size_t(rep.first), rep.second};
     }
-    return work_to_input(1 - side, locator_[1 - side].locate(P_[side][wv]));
+    return to_input(side ? Mesh_side::source : Mesh_side::target, locator_[1 - side].locate(P_[side][wv]));
   }
 
   template <int To, class LinkFrom, class LinkTo, class FaceIndex, class Loc>
@@ -621,7 +755,7 @@ private:
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
         if (from.vertex[wv[j]] == uv[i]) l.b[j] = p.second[i];
-    const internal::Work_location r = map_work(From, l);
+    const internal::Work_location r = image(From ? Mesh_side::target : Mesh_side::source, l);
     // Back to the user's face order on the other mesh.
     const auto& m2 = B_.side[To].m;
     internal::WH h2 = m2.halfedge(r.face);
@@ -701,6 +835,21 @@ private:
   Bijectivity_certificate cert_[2];
   Cross_parameterization_statistics stats_;
 };
+
+namespace internal {
+/// The working state of a `Cross_parameterization`, for the library's own later stages (compatible
+/// remeshing copies the source's layout mesh and parameterization and refines them further).
+struct Cross_parameterization_access {
+  template <class CP>
+  static const Layout_mesh& layout_mesh(const CP& cp, Mesh_side side) { return cp.B_.side[side_index(side)]; }
+  template <class CP>
+  static const Base_parameterization& parameterization(const CP& cp, Mesh_side side) { return cp.P_[side_index(side)]; }
+  template <class CP>
+  static const Base_locator& locator(const CP& cp, Mesh_side side) { return cp.locator_[side_index(side)]; }
+  template <class CP>
+  static const Base_mesh& base_mesh(const CP& cp) { return cp.base_; }
+};
+} // namespace internal
 
 } // namespace crossparam
 

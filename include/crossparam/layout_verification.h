@@ -14,7 +14,13 @@
 #ifndef CROSSPARAM_LAYOUT_VERIFICATION_H
 #define CROSSPARAM_LAYOUT_VERIFICATION_H
 
-#include <crossparam/patch_layout.h>
+#include <crossparam/layout_types.h>
+
+#include <CGAL/boost/graph/helpers.h>
+#include <CGAL/boost/graph/iterator.h>
+#include <CGAL/number_utils.h>
+
+#include <boost/graph/graph_traits.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -24,12 +30,6 @@
 #include <string>
 
 namespace crossparam {
-
-/// Result of `verify_patch_layouts`: `valid`, or the first problem found in `message`.
-struct Layout_verification {
-  bool valid = true;
-  std::string message;
-};
 
 namespace internal {
 
@@ -232,6 +232,11 @@ bool verify_mesh_layout(const TriangleMesh& tm, const Patch_layout& L, const Mes
 
 /// \brief Checks, without trusting the builder, that `layout` describes topologically identical
 /// triangular patch layouts of the refined meshes `tm_s` and `tm_t` (see the file comment for what is proved).
+///
+/// \tparam SourceMesh, TargetMesh models of `FaceListGraph` with an internal `vertex_point` property map (e.g.
+///         `CGAL::Surface_mesh`, `CGAL::Polyhedron_3` with item ids).
+/// \param layout the layouts as `compute_patch_layouts` returns them, for `tm_s` and `tm_t` as refined.
+/// \returns `valid`, or the first problem found. Purely combinatorial (coordinates only name problems).
 template <class SourceMesh, class TargetMesh>
 Layout_verification verify_patch_layouts(const SourceMesh& tm_s, const TargetMesh& tm_t, const Patch_layout& layout) {
   Layout_verification r;

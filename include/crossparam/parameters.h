@@ -52,7 +52,8 @@ CROSSPARAM_ADD_NAMED_PARAMETER(apply_path_flips)
 /// distances to the features (an addition to the paper; see doc/algorithms.md).
 CROSSPARAM_ADD_NAMED_PARAMETER(consistent_paths)
 
-/// \brief The weights policy of the §4.2 smoothing, a model of `SmoothingWeights`; default `Mean_value_weights`.
+/// \brief The weights policy of the §4.2 smoothing, a model of `SmoothingWeights` (concept in smoothing.h);
+/// default `Mean_value_weights`.
 CROSSPARAM_ADD_NAMED_PARAMETER(smoothing_weights)
 /// \brief `double`, default 1e-4: smoothing stops when no vertex moves farther (in base-triangle edge units).
 CROSSPARAM_ADD_NAMED_PARAMETER(smoothing_tolerance)
@@ -69,7 +70,8 @@ CROSSPARAM_ADD_NAMED_PARAMETER(tolerance)
 CROSSPARAM_ADD_NAMED_PARAMETER(normal_deviation)
 /// \brief A callable taking a `const std::string&`: one line of text per step (the library never prints).
 CROSSPARAM_ADD_NAMED_PARAMETER(progress)
-/// \brief The weights policy of the adaptive smoothing (§5.2), a model of `RemeshingWeights`.
+/// \brief The weights policy of the adaptive smoothing (§5.2), a model of `RemeshingWeights` (concept in
+/// smoothing.h); default `Error_driven_weights`.
 CROSSPARAM_ADD_NAMED_PARAMETER(remeshing_weights)
 /// \brief The refinement rule (§5.3), a model of `RefinementRule`.
 CROSSPARAM_ADD_NAMED_PARAMETER(refinement_rule)

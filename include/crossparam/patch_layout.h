@@ -5,6 +5,8 @@
 #define CROSSPARAM_PATCH_LAYOUT_H
 
 #include <crossparam/errors.h>
+#include <crossparam/layout_types.h>
+#include <crossparam/layout_verification.h>
 #include <crossparam/validation.h>
 #include <crossparam/parameters.h>
 #include <crossparam/types.h>
@@ -21,29 +23,6 @@
 #include <vector>
 
 namespace crossparam {
-
-/// The layout of one mesh. Vertex and face indices are positions in `vertices(tm)` / `faces(tm)` order of
-/// the refined mesh: the original vertices first, in their original order, then one vertex per split.
-struct Mesh_layout {
-  std::size_t original_vertices = 0;
-  std::size_t original_faces = 0;
-  std::vector<Edge_split> splits;              ///< the edge splits, in the order performed
-  std::vector<int> face_triangle;              ///< per face of the refined mesh: its base-triangle id
-  std::vector<std::vector<std::size_t>> paths; ///< per path id: its vertices, from base_edges[p][0] to [1]
-  std::vector<std::size_t> feature_vertices;   ///< per feature: its vertex
-};
-
-/// Topologically identical triangular layouts of a source and a target mesh over one base mesh.
-struct Patch_layout {
-  /// Base triangles as feature indices, counter-clockwise seen from outside. Triangle ids name
-  /// corresponding patches on both meshes.
-  std::vector<std::array<std::size_t, 3>> base_triangles;
-  /// Per path id: its two features. Path p on the source matches path p on the target.
-  std::vector<std::array<std::size_t, 2>> base_edges;
-  Mesh_layout source;
-  Mesh_layout target;
-  Layout_statistics statistics;
-};
 
 namespace internal {
 
@@ -248,17 +227,16 @@ void write_layout_outputs(TriangleMesh& tm, const NamedParameters& np, const Lay
 ///      `Incompatible_inputs_error`) naming the problem.
 /// \returns the base mesh, both layouts and statistics. The result is verified before it is returned
 ///          (`verify_patch_layouts`); a failed verification throws `Algorithm_error`.
+///
+/// Kernel: the layout is computed on working copies with the fixed kernel `crossparam::Kernel` (EPICK); the
+/// user's points are read through `CGAL::to_double` (any kernel), and no `geom_traits` named parameter is
+/// taken. The split points written back to the user's meshes are computed with the user's kernel
+/// (`CGAL::barycenter` of the edge's end points).
 template <class SourceMesh, class TargetMesh, typename CGAL_NP_TEMPLATE_PARAMETERS_1,
           typename CGAL_NP_TEMPLATE_PARAMETERS_2>
 Patch_layout compute_patch_layouts(SourceMesh& tm_s, TargetMesh& tm_t, const Feature_correspondence& features,
                                    const CGAL_NP_CLASS_1& np_source = CGAL::parameters::default_values(),
                                    const CGAL_NP_CLASS_2& np_target = CGAL::parameters::default_values());
-
-} // namespace crossparam
-
-#include <crossparam/layout_verification.h>
-
-namespace crossparam {
 
 namespace internal {
 template <class SourceMesh, class TargetMesh, typename NP_T1, typename NP_Tag1, typename NP_Base1,

@@ -75,6 +75,9 @@ bool are_compatible(const MeshA& a, const MeshB& b) {
 /// \brief Checks the two outputs of a compatible remeshing against the inputs. `tolerance` is the promised
 /// bound in percent of the target's diagonal; `source_bound` the bound for the source side (default 1e-6 %).
 /// The Hausdorff distances are computed with CGAL's bounded-error algorithm to 1% of the tolerance.
+///
+/// Kernel: that of `Mesh`'s points (`CGAL::Kernel_traits` of its `vertex_point` value type), used by the AABB
+/// tree, the Hausdorff distances and the normals; no `geom_traits` named parameter is taken.
 template <class Mesh>
 Remeshing_verification verify_compatible_remeshing(const Mesh& src, const Mesh& tgt, const Mesh& out_source,
                                                    const Mesh& out_target, double tolerance,

@@ -11,11 +11,59 @@
 #ifndef CROSSPARAM_SMOOTHING_H
 #define CROSSPARAM_SMOOTHING_H
 
+#include <crossparam/types.h>
 #include <crossparam/internal/base_parameterization.h>
 
 #include <vector>
 
 namespace crossparam {
+
+/*!
+\cgalConcept SmoothingWeights
+
+The edge weights of the local smoothing of a parameterization over the base mesh (paper §4.2): each vertex is
+moved to the weighted average of its neighbours' base-domain positions, with the weight of neighbour
+`target(h)` in the average for `source(h)` given by the policy. Passed with the named parameter
+`crossparam::parameters::smoothing_weights` to `Cross_parameterization`; copied once per mesh.
+
+Everything a model sees is public (types.h): the refined mesh of one side in working coordinates (the input
+translated and scaled to a unit bounding-box diagonal, faces oriented outward; its vertex i is input vertex i for
+the input's vertices, then the split vertices) and its halfedges. The geometry is the mesh's 3D geometry,
+which smoothing never changes: only the vertices' base locations move.
+
+\cgalHasModel `crossparam::Mean_value_weights` (the default)
+
+Required types: none. A model is `CopyConstructible`: each mesh is smoothed with its own copy of the policy.
+
+Required member functions (`w` a model, `cw` a const one, `m` a `const crossparam::Refined_mesh&`,
+`h` a `crossparam::Refined_halfedge` of `m`):
+- `w.prepare(m)`: called on each mesh's copy once, before the first smoothing pass, with that mesh (the source's
+  copy, then the target's). Computes whatever the weights need; `m` outlives the smoothing. With
+  `protrusion_features` (default on), a first map on copies of the meshes prepares copies of its own too.
+- `double cw(h)`: the weight of vertex `target(h, m)` in the average for vertex `source(h, m)`; must be
+  positive and finite. Called during every pass, for each outgoing halfedge of each vertex that is not a
+  feature, from the pass's thread (one thread per mesh); it must not modify the model.
+*/
+
+/*!
+\cgalConcept RemeshingWeights
+
+\cgalRefines `SmoothingWeights`
+
+The edge weights of the adaptive smoothing of compatible remeshing (paper §5.2): like `SmoothingWeights`, but
+the mesh changes (the remeshing splits edges of the source's refined mesh) and the weights follow the
+approximation error. Passed with `crossparam::parameters::remeshing_weights` to `Compatible_remesher`.
+
+\cgalHasModel `crossparam::Error_driven_weights` (the default, compatible_remeshing.h)
+
+Required member functions, in addition to those of `SmoothingWeights` (`m`: the source's refined mesh as the
+remeshing has refined it so far, working coordinates; `e` a `const std::vector<double>&`):
+- `w.prepare(m)`: called before the first round and again after every round that changed the connectivity
+  (edge splits add vertices, edges and faces at the end of the index ranges; none is removed);
+- `w.update(m, e)`: called before every smoothing round with the current error of every edge, `e[i]` the error
+  of edge `Refined_edge(i)` (in units of the unit bounding-box diagonal); `e.size() == m.number_of_edges()`;
+- `double cw(h)`: as in `SmoothingWeights`, for the current mesh.
+*/
 
 /// Options of the local smoothing; every field has a default.
 struct Smoothing_options {
@@ -33,18 +81,22 @@ struct Smoothing_report {
   std::size_t migrations = 0;   ///< accepted moves into another base triangle
 };
 
-/// Weights policy of the shape-preserving smoothing (§4.2): mean-value weights computed once on the
-/// original 3D geometry of the mesh (Floater 2003). A model of `SmoothingWeights`:
-/// `void prepare(const internal::Work_mesh&)` and `double operator()(halfedge h)`, the weight of target(h)
-/// in the average for source(h); weights must be positive.
+/// \cgalModels `SmoothingWeights`
+///
+/// Weights policy of the shape-preserving smoothing (§4.2): mean-value weights computed once on the 3D
+/// geometry of the refined mesh (Floater 2003): for h = (i -> j), (tan(a/2) + tan(b/2)) / |x_j - x_i| with a, b
+/// the angles at i of the two faces of the edge; 1 / (mean edge length) where that is undefined (coincident
+/// points), so every weight is positive.
 class Mean_value_weights {
 public:
-  void prepare(const internal::Work_mesh& m) {
+  /// Computes the weight of every halfedge of `m`.
+  void prepare(const Refined_mesh& m) {
     const double fallback = internal::mean_value_fallback(m);
     w_.assign(m.number_of_halfedges(), 0.0);
     for (auto h : m.halfedges()) w_[h] = internal::mean_value_weight(m, h, fallback);
   }
-  double operator()(internal::WH h) const { return w_[h]; }
+  /// The weight of target(h) in the average for source(h).
+  double operator()(Refined_halfedge h) const { return w_[h]; }
 
 private:
   std::vector<double> w_;

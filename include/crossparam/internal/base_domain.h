@@ -30,15 +30,6 @@
 #include <vector>
 
 namespace crossparam {
-
-/// A point of the base domain: base triangle `tri` and barycentric coordinates with respect to its corners
-/// (in `Patch_layout::base_triangles[tri]` order). A zero coordinate is exact: the point is on that edge or
-/// corner, and belongs to every base triangle sharing it.
-struct Base_location {
-  int tri = -1;
-  std::array<double, 3> b{{0, 0, 0}};
-};
-
 namespace internal {
 
 using Point_2 = Kernel::Point_2;

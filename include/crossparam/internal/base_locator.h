@@ -13,12 +13,8 @@
 namespace crossparam {
 namespace internal {
 
-/// A point of a working mesh: face and barycentrics w.r.t. the face's halfedge order
-/// (source(h), target(h), target(next(h))) with h = halfedge(f).
-struct Work_location {
-  WF face;
-  std::array<double, 3> b{{0, 0, 0}};
-};
+/// A point of a working mesh: the public `Refined_location` (face and barycentrics in halfedge order).
+using Work_location = Refined_location;
 
 /// The point of mesh m at location l.
 inline Point_3 point_at(const Work_mesh& m, const Work_location& l) {

@@ -6,6 +6,7 @@
 #ifndef CROSSPARAM_INTERNAL_BASE_PARAMETERIZATION_H
 #define CROSSPARAM_INTERNAL_BASE_PARAMETERIZATION_H
 
+#include <crossparam/certificate.h>
 #include <crossparam/internal/base_domain.h>
 #include <crossparam/internal/layout_builder.h>
 
@@ -16,16 +17,6 @@
 #include <vector>
 
 namespace crossparam {
-
-/// Result of the bijectivity certificate of one mesh's map onto the base mesh.
-struct Bijectivity_certificate {
-  bool valid = false;
-  std::size_t faces = 0;          ///< faces checked
-  std::size_t not_positive = 0;   ///< faces whose image is flipped or degenerate (exact predicate)
-  std::size_t not_in_a_chart = 0; ///< faces whose corners span more than two adjacent base triangles
-  std::size_t coverage = 0;       ///< faces covering a probe point of the base mesh (1 when one-to-one)
-  std::string message;            ///< empty when valid
-};
 
 namespace internal {
 

@@ -25,28 +25,6 @@
 
 namespace crossparam {
 
-/// Counts and timings of one layout computation (paper §3).
-struct Layout_statistics {
-  std::size_t features = 0;
-  std::size_t edge_paths = 0;             ///< path pairs traced on the edge graphs by PathMatch (§3.1)
-  std::size_t face_paths = 0;             ///< path pairs added by make-simple and triangulation (§3.2)
-  std::size_t face_traced_source = 0;     ///< of those, paths that needed the face graph on the source
-  std::size_t face_traced_target = 0;     ///< ... and on the target
-  std::size_t splits_source = 0;          ///< edge splits on the source
-  std::size_t splits_target = 0;          ///< edge splits on the target
-  std::size_t flips = 0;                  ///< path flips (§3.3)
-  std::size_t guided_paths = 0;           ///< pairs replaced by a more consistent descriptor-guided variant
-  std::size_t adjacency_splits_source = 0; ///< splits of §4.2 (edges joining two boundary vertices of a patch)
-  std::size_t adjacency_splits_target = 0;
-  std::size_t rejected_blocking = 0;      ///< candidate pairs dropped by the blocking test
-  std::size_t sector_recomputations = 0;  ///< paths recomputed inside the matching sector (Update, rule 3)
-  std::size_t path_recomputations = 0;    ///< paths recomputed after their vertices were taken (Update, 1-2)
-  double seconds_edge_paths = 0;
-  double seconds_face_paths = 0;
-  double seconds_flips = 0;
-  double seconds_total = 0;
-};
-
 namespace internal {
 
 class Layout_builder {

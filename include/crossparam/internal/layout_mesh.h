@@ -7,6 +7,7 @@
 #define CROSSPARAM_INTERNAL_LAYOUT_MESH_H
 
 #include <crossparam/errors.h>
+#include <crossparam/layout_types.h>
 #include <crossparam/types.h>
 #include <crossparam/internal/barycentric.h>
 
@@ -22,23 +23,14 @@
 #include <vector>
 
 namespace crossparam {
-
-/// One edge split performed while building a layout: edge (u, v) was split at u + t (v - u), creating
-/// vertex w. Indices are vertex indices in the order "original vertices, then appended ones".
-struct Edge_split {
-  std::size_t u = 0;
-  std::size_t v = 0;
-  std::size_t w = 0;
-  double t = 0.5;
-};
-
 namespace internal {
 
-using Work_mesh = CGAL::Surface_mesh<Point_3>;
-using WV = Work_mesh::Vertex_index;
-using WH = Work_mesh::Halfedge_index;
-using WE = Work_mesh::Edge_index;
-using WF = Work_mesh::Face_index;
+/// The working mesh of every stage is the public `Refined_mesh` (types.h); short names for its descriptors.
+using Work_mesh = Refined_mesh;
+using WV = Refined_vertex;
+using WH = Refined_halfedge;
+using WE = Refined_edge;
+using WF = Refined_face;
 
 constexpr int no_path = -1;     ///< edge or vertex not on any path
 constexpr int no_feature = -1;  ///< vertex that is not a feature
