@@ -42,8 +42,8 @@ int main(int argc, char** argv) {
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
     const auto& S = r.statistics();
     Surface_mesh os, ot;
-    r.copy_to(0, os);
-    r.copy_to(1, ot);
+    r.copy_to(Mesh_side::source, os);
+    r.copy_to(Mesh_side::target, ot);
     Remeshing_verification v = verify_compatible_remeshing(s0, t0, os, ot, tol);
     std::printf("| %s | %zu/%zu | %zu | %+.1f%% | %.3f | %.1f | %.3f | %.3f | %zu / %zu | %zu + %zu + %zu | %zu | %.2f / %.2f | %.2f | %.2f | %.2f | %.1e / %.1e |%s\n",
                 c.filename().string().c_str(), ns, nt, S.output_vertices,

@@ -34,8 +34,8 @@ Outcome outcome_of(const Remesher& r, const Surface_mesh& s0, const Surface_mesh
   o.stats = r.statistics();
   o.certificate = r.certificate().valid;
   Surface_mesh os, ot;
-  r.copy_to(0, os);
-  r.copy_to(1, ot);
+  r.copy_to(Mesh_side::source, os);
+  r.copy_to(Mesh_side::target, ot);
   o.check = verify_compatible_remeshing(s0, t0, os, ot, tolerance);
   // The first points of the source-shaped output are the source's vertices, bit for bit.
   o.source_prefix_exact = r.source_points().size() >= s0.number_of_vertices();

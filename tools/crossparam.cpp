@@ -17,7 +17,6 @@
 //   report.h    the JSON writer of report.json
 //   render.h    pictures with POV-Ray (--png)
 //   png.h       the PNG writer of the checkerboard texture
-//   map_shim.h  the refined meshes and atlas coordinates of the map, until the library provides them
 #include "cli/commands.h"
 #include "cli/options.h"
 #include "cli/render.h"

@@ -180,13 +180,14 @@ public:
   const Remeshing_statistics& statistics() const { return stats_; }
   const Bijectivity_certificate& certificate() const { return cert_; }
 
-  /// Copies the source-shaped (side 0) or target-shaped (side 1) result into `out`, any MutableFaceGraph.
+  /// Copies the source-shaped (`Mesh_side::source`) or target-shaped (`Mesh_side::target`) result into `out`,
+  /// any MutableFaceGraph.
   template <class OutputMesh>
-  void copy_to(int side, OutputMesh& out) const {
+  void copy_to(Mesh_side side, OutputMesh& out) const {
     using P3 = typename boost::property_traits<
         typename boost::property_map<OutputMesh, CGAL::vertex_point_t>::type>::value_type;
     std::vector<P3> pts;
-    for (const auto& p : side == 0 ? out_.source_points : out_.target_points) pts.emplace_back(p[0], p[1], p[2]);
+    for (const auto& p : side == Mesh_side::source ? out_.source_points : out_.target_points) pts.emplace_back(p[0], p[1], p[2]);
     std::vector<std::vector<std::size_t>> polys;
     for (const auto& f : out_.faces) polys.push_back({f[0], f[1], f[2]});
     clear(out);
@@ -373,8 +374,8 @@ Remeshing_statistics compatible_remesh(SourceMesh& source, TargetMesh& target, c
                                        const NP& np = CGAL::parameters::default_values()) {
   Cross_parameterization<SourceMesh, TargetMesh> cp(source, target, features, np);
   Compatible_remesher<SourceMesh, TargetMesh> r(cp, np);
-  r.copy_to(0, out_source);
-  r.copy_to(1, out_target);
+  r.copy_to(Mesh_side::source, out_source);
+  r.copy_to(Mesh_side::target, out_target);
   return r.statistics();
 }
 

@@ -493,34 +493,6 @@ public:
     return out;
   }
 
-  // ---- for stage 3 and the CLI until they use the public API above: to be removed ----
-  // work().side[k].m -> working_mesh(side); work().side[k].n_original_vertices -> input_vertices(side);
-  // work().side[k].input_point(p) -> to_input_units(side, p); parameterization(k)[v] -> base_location(side, v);
-  // locator(k).locate(b) -> locate(side, b); map_work -> image; work_to_base -> base_location;
-  // work_to_input -> to_input; base_mesh() with the CLI's checkerboard -> base_atlas_coordinates(side);
-  // the int overloads -> Mesh_side. What stage 3 copies and refines (the source's Layout_mesh and
-  // Base_parameterization) it reads through internal::Cross_parameterization_access.
-  const internal::Layout_builder& work() const { return B_; }
-  const internal::Base_parameterization& parameterization(int side) const { return P_[side]; }
-  const internal::Base_locator& locator(int side) const { return locator_[side]; }
-  const internal::Base_mesh& base_mesh() const { return base_; }
-  internal::Work_location map_work(int side, const internal::Work_location& l) const {
-    return image(side ? Mesh_side::target : Mesh_side::source, l);
-  }
-  Base_location work_to_base(int side, const internal::Work_location& l) const {
-    return base_location(side ? Mesh_side::target : Mesh_side::source, l);
-  }
-  Input_location work_to_input(int side, const internal::Work_location& l) const {
-    return to_input(side ? Mesh_side::target : Mesh_side::source, l);
-  }
-  const Base_location& base_location(int side, std::size_t v) const {
-    return base_location(side ? Mesh_side::target : Mesh_side::source, v);
-  }
-  const Bijectivity_certificate& certificate(int side) const {
-    return certificate(side ? Mesh_side::target : Mesh_side::source);
-  }
-  std::size_t input_vertices(int side) const { return input_vertices(side ? Mesh_side::target : Mesh_side::source); }
-  // ---- end of the section to be removed ----
 
 private:
   friend struct internal::Cross_parameterization_access;

@@ -5,7 +5,6 @@
 #ifndef CROSSPARAM_CLI_OUTPUTS_H
 #define CROSSPARAM_CLI_OUTPUTS_H
 
-#include "map_shim.h"
 #include "options.h"
 #include "png.h"
 #include "render.h"
@@ -189,7 +188,8 @@ inline void write_checkerboard(const Options& o, const Map& cp) {
   });
   for (Mesh_side side : {Mesh_side::source, Mesh_side::target}) {
     const std::string name = side == Mesh_side::source ? "source" : "target";
-    const auto [mesh, atlas] = refined_mesh_and_atlas_shim(cp, side);
+    const Indexed_triangle_mesh mesh = cp.refined_mesh(side);
+    const auto atlas = cp.base_atlas_coordinates(side);
     write_file_atomically(output_path(o, name + "_checker.obj"), [&](std::ostream& os) {
       os.precision(17);
       os << "# crossparam: " << name << " textured from the base domain\n";
@@ -254,7 +254,7 @@ inline void write_map(const Options& o, const Map& cp, double read_s) {
   };
   write_report(o, [&](Json_writer& j) {
     j.member("stage", "map");
-    j.member("source_vertices", cp.input_vertices(0)).member("target_vertices", cp.input_vertices(1));
+    j.member("source_vertices", cp.input_vertices(Mesh_side::source)).member("target_vertices", cp.input_vertices(Mesh_side::target));
     j.member("features", L.features).member("base_triangles", cp.layout().base_triangles.size());
     j.key("layout").begin_object().member("edge_paths", L.edge_paths).member("face_paths", L.face_paths);
     j.key("splits").begin_object().member("source", L.splits_source).member("target", L.splits_target).end_object();
@@ -270,8 +270,8 @@ inline void write_map(const Options& o, const Map& cp, double read_s) {
     distortion(j, "distortion_before_smoothing", S.distortion_initial);
     distortion(j, "distortion", S.distortion);
     j.key("certificate").begin_object();
-    certificate(j, "source", cp.certificate(0));
-    certificate(j, "target", cp.certificate(1));
+    certificate(j, "source", cp.certificate(Mesh_side::source));
+    certificate(j, "target", cp.certificate(Mesh_side::target));
     j.end_object();
     j.key("seconds").begin_object().member("read", read_s).member("protrusion_probe", S.seconds_probe);
     j.member("layout", L.seconds_total).member("parameterization", S.seconds_parameterization);
@@ -326,8 +326,8 @@ inline void write_remesh(const Options& o, const Map& cp, const Remesher& r, con
                          const Surface_mesh& target0, double read_s) {
   Timer tv;
   Surface_mesh out_source, out_target;
-  r.copy_to(0, out_source);
-  r.copy_to(1, out_target);
+  r.copy_to(Mesh_side::source, out_source);
+  r.copy_to(Mesh_side::target, out_target);
   const Remeshing_verification check = verify_compatible_remeshing(source0, target0, out_source, out_target, o.tolerance);
   const double verify_s = tv.seconds();
   if (!check.valid) std::cerr << "crossparam: warning: the remeshing misses its tolerance: " << check.message << "\n";

@@ -37,8 +37,11 @@ struct Map_view {
 /// The one place where stage 3 reaches into the cross-parameterization `cp` (which must outlive the view).
 template <class CrossParameterization>
 Map_view map_view(const CrossParameterization& cp) {
-  return {cp.work().side[0], cp.parameterization(0), cp.work().side[1], cp.parameterization(1), cp.locator(1),
-          [&cp](const Work_location& l) { return cp.work_to_input(1, l); }};
+  using Access = Cross_parameterization_access;
+  return {Access::layout_mesh(cp, Mesh_side::source), Access::parameterization(cp, Mesh_side::source),
+          Access::layout_mesh(cp, Mesh_side::target), Access::parameterization(cp, Mesh_side::target),
+          Access::locator(cp, Mesh_side::target),
+          [&cp](const Work_location& l) { return cp.to_input(Mesh_side::target, l); }};
 }
 
 /// A corner of a planned face: base location, image on the target and its point.
