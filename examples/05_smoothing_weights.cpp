@@ -24,8 +24,8 @@ using Map = crossparam::Cross_parameterization<Surface_mesh, Surface_mesh>;
 /// A model of SmoothingWeights: the weight of an edge is the inverse of its length on the mesh as given.
 class Inverse_length_weights {
 public:
-  using Mesh = crossparam::internal::Work_mesh;
-  using Halfedge = crossparam::internal::WH;
+  using Mesh = crossparam::Refined_mesh;
+  using Halfedge = crossparam::Refined_halfedge;
 
   void prepare(const Mesh& m) {
     weight_.assign(m.number_of_halfedges(), 0.0);

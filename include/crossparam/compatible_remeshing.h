@@ -50,11 +50,11 @@ public:
   /// `shape`: whether to multiply by the mean-value weights (default true).
   explicit Error_driven_weights(bool shape = true) : shape_(shape) {}
 
-  void prepare(const internal::Work_mesh& m) {
+  void prepare(const Refined_mesh& m) {
     if (shape_) mv_.prepare(m);
     w_.resize(m.number_of_edges(), -1.0);
   }
-  void update(const internal::Work_mesh& m, const std::vector<double>& e) {
+  void update(const Refined_mesh& m, const std::vector<double>& e) {
     w_.resize(m.number_of_edges(), -1.0);
     double mean = 0;
     for (double x : e) mean += x;
@@ -65,7 +65,7 @@ public:
       w_[i] = w_[i] < 0 ? x : 0.5 * (x + w_[i]);
     }
   }
-  double operator()(internal::WH h) const {
+  double operator()(Refined_halfedge h) const {
     const double w = w_[std::size_t(h) / 2];
     return shape_ ? w * mv_(h) : w;
   }

@@ -229,18 +229,18 @@ inline void write_protrusion_pairs(Json_writer& j, const Map& cp) {
 /// report.json. `read_s` is the time to read (or generate) the inputs.
 inline void write_map(const Options& o, const Map& cp, double read_s) {
   fs::create_directories(o.output);
-  auto write_vertex_map = [&](const std::string& name, int side) {
+  auto write_vertex_map = [&](const std::string& name, Mesh_side side) {
     write_file_atomically(output_path(o, name), [&](std::ostream& os) {
       os.precision(17);
       const std::size_t n = cp.input_vertices(side);
       for (std::size_t v = 0; v < n; ++v) {
-        Input_location l = side == 0 ? cp.source_vertex_to_target_input(v) : cp.target_vertex_to_source_input(v);
+        Input_location l = side == Mesh_side::source ? cp.source_vertex_to_target_input(v) : cp.target_vertex_to_source_input(v);
         os << l.face << " " << l.b[0] << " " << l.b[1] << " " << l.b[2] << "\n";
       }
     });
   };
-  write_vertex_map("source_to_target.txt", 0);
-  write_vertex_map("target_to_source.txt", 1);
+  write_vertex_map("source_to_target.txt", Mesh_side::source);
+  write_vertex_map("target_to_source.txt", Mesh_side::target);
   write_checkerboard(o, cp);
   const Cross_parameterization_statistics& S = cp.statistics();
   const Layout_statistics& L = S.layout;
