@@ -5,8 +5,8 @@
 //
 // The smoothing moves every vertex of each parameterization to a weighted average of its neighbours; the
 // weights are a policy, a model of the SmoothingWeights concept:
-//   void prepare(const Work_mesh& m)    called once with the mesh, before the smoothing;
-//   double operator()(Halfedge h) const the weight of target(h) in the average for source(h), positive.
+//   void prepare(const Refined_mesh& m)         called once with the mesh, before the smoothing;
+//   double operator()(Refined_halfedge h) const  the weight of target(h) in the average for source(h), positive.
 // The default, Mean_value_weights, preserves the shape of the mesh. This example writes a policy of its own,
 // inverse edge lengths (near neighbours pull harder), and compares the distortion of the two maps.
 #include <crossparam/cross_parameterization.h>
