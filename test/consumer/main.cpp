@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include <crossparam/io.h>
-#include <crossparam/validation.h>
+#include <crossparam/crossparam.h> // every public header, as installed
 #include <iostream>
 int main() {
   crossparam::Polygon_soup soup;
