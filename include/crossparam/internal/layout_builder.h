@@ -21,6 +21,7 @@
 #include <array>
 #include <chrono>
 #include <map>
+#include <set>
 #include <sstream>
 
 namespace crossparam {
@@ -497,8 +498,9 @@ public:
   /// (Insufficient_features_error naming that patch).
   void complete_with_handles() {
     // A triangulation of genus g with nf vertices has 3 (nf - 2 + 2 g) edges: each step adds one, or flips one
-    // to free a chord (unblock_chord); twice that many steps bound the loop.
-    const std::size_t max_steps = 2 * (3 * nf() + 6 * std::size_t(genus)) + 8;
+    // to free a chord (unblock_chord, move_path_into, then triangulates again); four times that many steps
+    // bound the loop.
+    const std::size_t max_steps = 4 * (3 * nf() + 6 * std::size_t(genus)) + 8;
     for (std::size_t step = 0; step < max_steps; ++step) {
       Combinatorics c = combinatorics();
       const Patch_topology topo = patch_topology(c);
@@ -574,6 +576,15 @@ public:
             if (!(i == 0 && j == k - 1) && loop[i].from != loop[j].from)
               unblocked = unblock_chord(loop[i].from, loop[j].from);
       }
+      // No flip frees a chord: move a path that blocks one into the patch (each feature pair once).
+      for (std::size_t l = 0; l < c.loops.size() && !unblocked; ++l) {
+        const auto& loop = c.loops[l];
+        const std::size_t k = loop.size();
+        for (std::size_t i = 0; i < k && !unblocked; ++i)
+          for (std::size_t j = i + 2; j < k && !unblocked; ++j)
+            if (!(i == 0 && j == k - 1) && loop[i].from != loop[j].from)
+              unblocked = move_path_into(loop[i].from, loop[j].from, loop[i].path, loop[j].path);
+      }
       if (unblocked) continue;
       for (std::size_t l = 0; l < c.loops.size(); ++l)
         if (c.loops[l].size() != 3) throw_insufficient(c, topo, c.loop_patch[l]);
@@ -608,6 +619,19 @@ public:
     remove_path(p);
     add_traced_pair(cc, dd, d2.path, e2.path);
     ++stats.flips;
+    return true;
+  }
+
+  /// Pairs of features whose path move_path_into() has moved: each moves at most once, which bounds the moves.
+  std::set<std::pair<int, int>> moved_pairs;
+
+  /// Replaces the path joining x and y elsewhere by a chord (x, y) of a disk patch, from sector cx of x to sector
+  /// cy of y. The two patches on the sides of the old path merge and are triangulated again later.
+  bool move_path_into(int x, int y, int cx, int cy) {
+    const int p = connected(x, y);
+    if (p == no_path || p == cx || p == cy || !moved_pairs.insert({std::min(x, y), std::max(x, y)}).second) return false;
+    remove_path(p);
+    add_traced_pair(x, y, cx, cy);
     return true;
   }
 
