@@ -585,6 +585,9 @@ public:
             if (!(i == 0 && j == k - 1) && loop[i].from != loop[j].from)
               unblocked = move_path_into(loop[i].from, loop[j].from, loop[i].path, loop[j].path);
       }
+      // Nor a move: turn a side of the patch into a chord of the patch grown by the triangle beyond that side.
+      for (std::size_t l = 0; l < c.loops.size() && !unblocked; ++l)
+        if (c.loops[l].size() > 3) unblocked = rotate_side(c, c.loops[l]);
       if (unblocked) continue;
       for (std::size_t l = 0; l < c.loops.size(); ++l)
         if (c.loops[l].size() != 3) throw_insufficient(c, topo, c.loop_patch[l]);
@@ -632,6 +635,46 @@ public:
     if (p == no_path || p == cx || p == cy || !moved_pairs.insert({std::min(x, y), std::max(x, y)}).second) return false;
     remove_path(p);
     add_traced_pair(x, y, cx, cy);
+    return true;
+  }
+
+  /// Sides (feature pairs) that rotate_side() has turned: each at most once, which bounds the turns.
+  std::set<std::pair<int, int>> rotated_pairs;
+
+  /// For a disk patch with no admissible chord: a side (x, y) of its loop whose other side is a triangular
+  /// patch (y, x, v) is removed, and v is joined to a corner u of the loop (u not x, y, v and not joined to v)
+  /// across the union of the two patches, a disk, which the chord splits alike on both meshes.
+  bool rotate_side(const Combinatorics& c, const std::vector<Dart>& loop) {
+    auto same = [](const Dart& u, const Dart& v) { return u.path == v.path && u.from == v.from; };
+    const std::size_t k = loop.size();
+    double best = HUGE_VAL;
+    int pick_path = no_path, pick_v = -1, pick_u = -1, corner_v = 0, corner_u = 0;
+    for (std::size_t i = 0; i < k; ++i) {
+      const int q = loop[i].path, x = loop[i].from, y = loop[(i + 1) % k].from;
+      if (rotated_pairs.count({std::min(x, y), std::max(x, y)})) continue;
+      const Dart r{q, y}, e1 = next_dart(c, r), e2 = next_dart(c, e1);
+      if (!same(next_dart(c, e2), r)) continue; // the other side is not a triangle
+      bool inside = false;                      // the other side is this patch itself
+      for (const Dart& d : loop) inside |= same(d, r) || same(d, e1) || same(d, e2);
+      if (inside) continue;
+      const int v = e2.from;
+      for (std::size_t j = 0; j < k; ++j) {
+        const int u = loop[j].from;
+        if (u == x || u == y || u == v || connected(u, v) != no_path) continue;
+        if (loop[j].path == q) continue;
+        const double d = feature_distance(u, v);
+        if (d < best) {
+          best = d;
+          pick_path = q, pick_v = v, pick_u = u, corner_v = e2.path, corner_u = loop[j].path;
+        }
+      }
+    }
+    if (pick_path == no_path) return false;
+    const auto [x, y] = path_ends[pick_path];
+    rotated_pairs.insert({std::min(x, y), std::max(x, y)});
+    remove_path(pick_path);
+    add_traced_pair(pick_v, pick_u, corner_v, corner_u);
+    ++stats.flips;
     return true;
   }
 
