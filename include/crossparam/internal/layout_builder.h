@@ -536,7 +536,7 @@ public:
       // Handle cuts on simple patches of genus > 0.
       bool cut = false;
       for (int p = 0; p < c.patches && !cut; ++p)
-        if (topo.genus[p] > 0 && topo.loops[p].size() == 1) cut = cut_handle(c, c.loops[topo.loops[p][0]]);
+        if (topo.genus[p] > 0 && topo.loops[p].size() == 1) cut = cut_handle(c.loops[topo.loops[p][0]]);
       if (cut) {
         ++stats.face_paths;
         continue;
@@ -689,7 +689,7 @@ public:
   /// consistent pair. If the free vertices of the patch are too few for such paths, the edges inside the patch
   /// joining two of its boundary vertices are split once and the search repeated. Returns false if no pair
   /// was found.
-  bool cut_handle(const Combinatorics& c, const std::vector<Dart>& loop) {
+  bool cut_handle(const std::vector<Dart>& loop) {
     std::vector<std::tuple<double, int, int, int, int>> pairs;
     for (std::size_t i = 0; i < loop.size(); ++i)
       for (std::size_t j = i + 1; j < loop.size(); ++j) {
@@ -731,7 +731,6 @@ public:
       if (attempt == 0)
         for (int s = 0; s < 2; ++s) refine_patch(s, label[s], patch_on(s, loop[0], label[s]));
     }
-    (void)c;
     return false;
   }
 
