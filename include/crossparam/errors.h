@@ -36,6 +36,16 @@ public:
   using Input_error::Input_error;
 };
 
+/// The features are too few for a layout of meshes of genus > 0: once every path the features allow is in
+/// place, a patch still carries a handle or several boundary loops (or the base mesh cannot be a simple
+/// triangulation). what() names that patch by its corner features, says what it still carries, and gives a
+/// vertex of each mesh near it where one more corresponding feature would help. Thrown by
+/// compute_patch_layouts() and everything built on it; about four features around each handle avoid it.
+class Insufficient_features_error : public Feature_error {
+public:
+  using Feature_error::Feature_error;
+};
+
 /// An algorithm could not complete, or a result failed its independent verification.
 /// Seeing this is a bug in crossparam or an unsupported case that the message names.
 class Algorithm_error : public Error {

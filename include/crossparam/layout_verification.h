@@ -2,15 +2,18 @@
 // Independent check that two patch layouts are topologically identical triangular layouts over one base
 // mesh. It trusts nothing of the builder: it reads the refined meshes, the per-face base-triangle ids and
 // the path vertex lists, and proves
-//   1. the base mesh is a simple, closed, consistently oriented triangulation of the sphere, every base
-//      edge carried by exactly one path id;
+//   1. the base mesh is a simple, closed, consistently oriented triangulation of the meshes' surface (its
+//      Euler characteristic V - E + F = 2 - 2g is the meshes', which must agree), every base edge carried by
+//      exactly one path id;
 //   2. on each mesh every path is a simple edge path between its two features, paths are disjoint except
 //      at shared endpoints and never pass through a feature;
 //   3. on each mesh two faces across a non-path edge lie in the same patch, and across an edge of path
 //      (a,b) the face on the left of a->b lies in the base triangle containing a->b and the face on the
 //      right in the one containing b->a (this fixes the cyclic order of paths at every corner);
 //   4. every patch is non-empty, connected and a topological disk (Euler characteristic 1).
-// With one base mesh for both meshes, 1-4 mean the layouts are topologically identical.
+// With one base mesh for both meshes, 1-4 mean the layouts are topologically identical: the same neighbours and
+// the same cyclic orders of paths at every feature, every patch a disk on both meshes (for genus g > 0 too:
+// then no patch may keep a handle, which 4 rules out).
 #ifndef CROSSPARAM_LAYOUT_VERIFICATION_H
 #define CROSSPARAM_LAYOUT_VERIFICATION_H
 
@@ -33,7 +36,15 @@ namespace crossparam {
 
 namespace internal {
 
-inline bool verify_base_mesh(const Patch_layout& L, std::size_t nfeat, std::string& msg) {
+/// Euler characteristic V - E + F of a closed face graph.
+template <class FaceGraph>
+long euler_characteristic(const FaceGraph& tm) {
+  return long(std::distance(vertices(tm).begin(), vertices(tm).end())) -
+         long(std::distance(edges(tm).begin(), edges(tm).end())) +
+         long(std::distance(faces(tm).begin(), faces(tm).end()));
+}
+
+inline bool verify_base_mesh(const Patch_layout& L, std::size_t nfeat, long euler, std::string& msg) {
   std::map<std::pair<std::size_t, std::size_t>, int> directed; // directed edge -> triangle
   std::set<std::array<std::size_t, 3>> seen;
   std::vector<char> used(nfeat, 0);
@@ -60,7 +71,10 @@ inline bool verify_base_mesh(const Patch_layout& L, std::size_t nfeat, std::stri
   for (std::size_t f = 0; f < nfeat; ++f)
     if (!used[f]) return msg = "feature " + std::to_string(f) + " is not a corner of the base mesh", false;
   const long V = long(nfeat), E = long(directed.size() / 2), F = long(L.base_triangles.size());
-  if (V - E + F != 2) return msg = "base mesh is not a sphere (Euler characteristic " + std::to_string(V - E + F) + ")", false;
+  if (V - E + F != euler)
+    return msg = "base mesh has Euler characteristic " + std::to_string(V - E + F) + ", the meshes " +
+                 std::to_string(euler),
+           false;
   if (L.base_edges.size() != std::size_t(E))
     return msg = "number of paths (" + std::to_string(L.base_edges.size()) + ") differs from base edges (" +
                  std::to_string(E) + ")",
@@ -245,7 +259,13 @@ Layout_verification verify_patch_layouts(const SourceMesh& tm_s, const TargetMes
     r.message = "feature counts differ";
     return r;
   }
-  if (!internal::verify_base_mesh(layout, layout.source.feature_vertices.size(), r.message) ||
+  const long euler = internal::euler_characteristic(tm_s);
+  if (internal::euler_characteristic(tm_t) != euler) {
+    r.valid = false;
+    r.message = "the meshes have different Euler characteristics";
+    return r;
+  }
+  if (!internal::verify_base_mesh(layout, layout.source.feature_vertices.size(), euler, r.message) ||
       !internal::verify_mesh_layout(tm_s, layout, layout.source, "source", r.message) ||
       !internal::verify_mesh_layout(tm_t, layout, layout.target, "target", r.message))
     r.valid = false;

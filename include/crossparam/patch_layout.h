@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Common base domain (Kraevoy & Sheffer 2004, §3): topologically identical triangular patch layouts of two
-// closed genus-0 triangle meshes from matching feature vertices.
+// closed triangle meshes of the same genus from matching feature vertices.
 #ifndef CROSSPARAM_PATCH_LAYOUT_H
 #define CROSSPARAM_PATCH_LAYOUT_H
 
@@ -222,9 +222,12 @@ void write_layout_outputs(TriangleMesh& tm, const NamedParameters& np, const Lay
 ///   - `crossparam::parameters::apply_path_flips` (bool, default true; read from `np_source`),
 ///   - `crossparam::parameters::consistent_paths` (bool, default true; read from `np_source`): trace
 ///     matching paths that agree in geodesic distances to the features (an addition to the paper).
-/// \pre both meshes closed, manifold, connected triangle meshes of genus 0 with finite coordinates;
+/// \pre both meshes closed, manifold, connected triangle meshes of the same genus with finite coordinates;
 ///      features distinct and in range. Each is checked: violations throw `Input_error` (or `Feature_error`,
-///      `Incompatible_inputs_error`) naming the problem.
+///      `Incompatible_inputs_error`) naming the problem. For genus g > 0 the features must also be enough to cut
+///      every handle (about four around each) and to carry a simple triangulation of genus g (at least 7
+///      features for g = 1, 10 for g = 2, 12 for g = 3); otherwise `Insufficient_features_error` names the patch
+///      that still carries a handle and vertices near it where a feature would help.
 /// \returns the base mesh, both layouts and statistics. The result is verified before it is returned
 ///          (`verify_patch_layouts`); a failed verification throws `Algorithm_error`.
 ///
@@ -262,6 +265,9 @@ Patch_layout compute_patch_layouts_impl(SourceMesh& tm_s, TargetMesh& tm_t, cons
   B.consistent_paths = consistent;
   make_work_mesh(tm_s, vpm_s, B.side[0]);
   make_work_mesh(tm_t, vpm_t, B.side[1]);
+  // Both meshes have this genus (internal::check_layout_inputs): V - E + F = 2 - 2 genus.
+  const Work_mesh& ms = B.side[0].m;
+  B.genus = int((2 - (long(ms.number_of_vertices()) - long(ms.number_of_edges()) + long(ms.number_of_faces()))) / 2);
   for (std::size_t k = 0; k < features.size(); ++k) {
     WV vs(WV::size_type(features[k].source)), vt(WV::size_type(features[k].target));
     B.side[0].feature_vertex.push_back(vs);

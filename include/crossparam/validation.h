@@ -3,7 +3,7 @@
 // on its inputs, and what they report. The readers of <crossparam/io.h> validate what they read with them, and
 // every public entry point checks its inputs with them once, before any work:
 //   - compute_patch_layouts, the Cross_parameterization constructor and compatible_remesh (through the
-//     constructor): both meshes by check_triangle_mesh(), equal genus 0, the features by
+//     constructor): both meshes by check_triangle_mesh(), equal genus, the features by
 //     validate_feature_pairs(), non-degenerate bounding boxes (internal::check_layout_inputs());
 //   - Compatible_remesher: its map was checked when it was built; only the options are checked;
 //   - morph and blend: the point lists (morph.h); check_compatible() for two soups to be morphed;
@@ -611,7 +611,7 @@ void check_bounding_box(const TriangleMesh& tm, VertexPointMap vpm) {
 
 /// \brief The input checks of compute_patch_layouts, the Cross_parameterization constructor and
 /// compatible_remesh, in this order: each mesh by check_triangle_mesh() ("source mesh", "target mesh"), the
-/// same genus, genus 0, the features by validate_feature_pairs() ("feature correspondence"), then the bounding
+/// same genus, the features by validate_feature_pairs() ("feature correspondence"), then the bounding
 /// box of each mesh's points (`vertex_point` of `np_source` / `np_target`) by check_bounding_box().
 /// \pre none: every violation is reported.
 /// \throws Input_error for a mesh, Incompatible_inputs_error for the genus, Feature_error for the features.
@@ -625,9 +625,6 @@ void check_layout_inputs(const SourceMesh& tm_s, const TargetMesh& tm_t, const F
   if (rs.genus != rt.genus)
     throw Incompatible_inputs_error("the source mesh has genus " + std::to_string(rs.genus) +
                                     " but the target mesh has genus " + std::to_string(rt.genus));
-  if (rs.genus != 0)
-    throw Incompatible_inputs_error("meshes of genus " + std::to_string(rs.genus) +
-                                    " are not supported yet: crossparam handles closed genus-0 meshes");
   const std::size_t ns = std::size_t(std::distance(vertices(tm_s).begin(), vertices(tm_s).end()));
   const std::size_t nt = std::size_t(std::distance(vertices(tm_t).begin(), vertices(tm_t).end()));
   validate_feature_pairs(features, ns, nt, "feature correspondence");

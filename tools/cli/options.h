@@ -21,7 +21,7 @@ inline const char* const usage_text =
     "\n"
     "commands:\n"
     "  layout SOURCE TARGET --features FILE -o DIR\n"
-    "      topologically identical triangular patch layouts of two closed genus-0 meshes (paper section 3)\n"
+    "      topologically identical triangular patch layouts of two closed meshes of one genus (paper section 3)\n"
     "  map SOURCE TARGET --features FILE -o DIR\n"
     "      cross-parameterization (paper section 4): the bijective map between the meshes, certified\n"
     "  remesh SOURCE TARGET --features FILE -o DIR [--tolerance PCT]\n"
@@ -54,7 +54,8 @@ inline const char* const usage_text =
     "  --quiet           print nothing but errors\n"
     "  -h, --help        this text\n"
     "\n"
-    "meshes: OFF, OBJ, PLY or STL; closed, manifold, one component, genus 0.\n";
+    "meshes: OFF, OBJ, PLY or STL; closed, manifold, one component, both of one genus (genus > 0: about four\n"
+    "features around each handle, or the layout stops naming the patch that needs more).\n";
 
 /// Bad usage: exit code 2. An empty message asks for the usage text (exit code 0).
 struct Usage_error : std::runtime_error {

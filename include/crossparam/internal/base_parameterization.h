@@ -265,7 +265,7 @@ struct Base_parameterization {
 
   /// Proves with exact predicates that the map from the mesh to the base mesh is one-to-one: every face is
   /// positively oriented in its canonical chart (so the map is a local homeomorphism away from vertices, a
-  /// branched covering of the sphere), and a probe point of the base mesh is covered by exactly one face (so
+  /// branched covering of the base surface), and a probe point of the base mesh is covered by exactly one face (so
   /// the covering has degree 1, hence no branching: a bijection).
   Bijectivity_certificate certify() const {
     Bijectivity_certificate c;

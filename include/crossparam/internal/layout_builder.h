@@ -21,6 +21,7 @@
 #include <array>
 #include <chrono>
 #include <map>
+#include <set>
 #include <sstream>
 
 namespace crossparam {
@@ -44,6 +45,14 @@ public:
   double guide_weight = 20;        ///< edge cost = length * (1 + guide_weight * descriptor distance)
   std::size_t guide_samples = 16;  ///< descriptors of at most this many vertices of the guiding path
   std::size_t max_flip_splits = 2; ///< a flip may split at most this many edges on each mesh
+  /// Genus of both meshes (checked equal by the input checks). Genus > 0 switches on the handle tests of §3.1
+  /// rule 4 and the handle cuts of complete_with_handles(); genus 0 never runs them.
+  int genus = 0;
+  /// Handle cuts: at most this many pairs of corners are tried per patch, and at most this many handle cycles
+  /// per corner pair and mesh; the closest pairs and the first cycles almost always succeed, the bounds keep the
+  /// time of a hopeless search (too few features) small.
+  std::size_t max_handle_corner_pairs = 12;
+  std::size_t max_handle_cycles = 6;
 
   std::size_t nf() const { return degree.size(); }
   int& connected(int a, int b) { return connection[std::size_t(a) * nf() + std::size_t(b)]; }
@@ -60,7 +69,10 @@ public:
     }
     path_match();
     auto t1 = clock::now();
-    complete_with_face_paths();
+    if (genus > 0)
+      complete_with_handles();
+    else
+      complete_with_face_paths();
     auto t2 = clock::now();
     if (do_flips) flip_paths();
     auto t3 = clock::now();
@@ -165,12 +177,26 @@ public:
   /// The blocking test: whether adding (hs, ht) keeps the two layouts topologically identical, given that
   /// their corners already correspond.
   bool non_blocking(const Halfedge_path& hs, const Halfedge_path& ht) const {
+    if (genus > 0) return non_blocking_with_handles(hs, ht);
     const int tmp = int(path_ends.size());
     auto a = side[0].left_side_signature(hs, tmp, degree);
     auto b = side[1].left_side_signature(ht, tmp, degree);
     if (a.splits != b.splits) return false;
     if (!a.splits) return true;
     return a.paths == b.paths && a.isolated == b.isolated;
+  }
+
+  /// The blocking test on meshes of genus > 0 (§3.1 rules 3 and 4): the pair must split its patches on both
+  /// meshes or on neither (4.1: a path that splits on one mesh but only cuts a handle on the other); when it
+  /// splits, each part must show the same path sides and isolated features on both meshes (3) and the same
+  /// Euler characteristic, hence the same genus (4.2). A pair that splits neither patch joins two boundary
+  /// loops or cuts a handle on both, the same on both since its corners correspond.
+  bool non_blocking_with_handles(const Halfedge_path& hs, const Halfedge_path& ht) const {
+    const int tmp = int(path_ends.size());
+    const auto a = side[0].split_signature(hs, tmp, degree);
+    const auto b = side[1].split_signature(ht, tmp, degree);
+    if (a.splits != b.splits) return false;
+    return !a.splits || (a.left == b.left && a.right == b.right);
   }
 
   // ---------------------------------------------------------------------------------------------------
@@ -443,6 +469,336 @@ public:
       return;
     }
     throw Algorithm_error("internal error: patch triangulation did not terminate");
+  }
+
+  // ---------------------------------------------------------------------------------------------------
+  // §3.2 on meshes of genus > 0: make-simple, handle cuts, triangulation
+  // ---------------------------------------------------------------------------------------------------
+
+  /// Per patch (source labels of `c`): its boundary loops, corner features and genus from
+  /// chi = 2 - 2 genus - loops.
+  struct Patch_topology {
+    std::vector<std::vector<std::size_t>> loops; ///< loop indices of each patch
+    std::vector<int> genus;
+  };
+  Patch_topology patch_topology(const Combinatorics& c) const {
+    Patch_topology t;
+    t.loops.resize(std::size_t(c.patches));
+    for (std::size_t l = 0; l < c.loops.size(); ++l) t.loops[c.loop_patch[l]].push_back(l);
+    const std::vector<long> chi = side[0].euler_characteristics(c.face_label, c.patches);
+    for (int p = 0; p < c.patches; ++p) t.genus.push_back(int((2 - chi[p] - long(t.loops[p].size())) / 2));
+    return t;
+  }
+
+  /// The completion of §3.2 on meshes of genus > 0. Each step adds one pair of paths, in this order: make-simple
+  /// (join two boundary loops or isolated features of one patch), a handle cut (a path between two corners of
+  /// the single loop of a patch with handles that does not split it), a chord of a disk patch. Each patch
+  /// keeps the same genus and loops on both meshes (the blocking test), so the same step applies to both.
+  /// When no step applies and a patch is not a triangle, the features are too few
+  /// (Insufficient_features_error naming that patch).
+  void complete_with_handles() {
+    // A triangulation of genus g with nf vertices has 3 (nf - 2 + 2 g) edges: each step adds one, or flips one
+    // to free a chord (unblock_chord, move_path_into, then triangulates again); four times that many steps
+    // bound the loop.
+    const std::size_t max_steps = 4 * (3 * nf() + 6 * std::size_t(genus)) + 8;
+    for (std::size_t step = 0; step < max_steps; ++step) {
+      Combinatorics c = combinatorics();
+      const Patch_topology topo = patch_topology(c);
+      std::vector<std::vector<std::vector<std::pair<int, int>>>> in_patch(c.patches); // components' corners
+      for (std::size_t l = 0; l < c.loops.size(); ++l) {
+        std::vector<std::pair<int, int>> comp;
+        for (const Dart& d : c.loops[l]) comp.push_back({d.from, d.path});
+        in_patch[c.loop_patch[l]].push_back(std::move(comp));
+      }
+      for (std::size_t a = 0; a < nf(); ++a)
+        if (c.isolated_patch[a] >= 0) in_patch[c.isolated_patch[a]].push_back({{int(a), isolated_corner}});
+
+      // Make simple: the closest corners of two components of one patch, distinct features not joined yet.
+      double best = HUGE_VAL;
+      std::array<int, 4> pick{};
+      for (const auto& comps : in_patch)
+        for (std::size_t i = 0; i < comps.size(); ++i)
+          for (std::size_t j = i + 1; j < comps.size(); ++j)
+            for (auto [x, cx] : comps[i])
+              for (auto [y, cy] : comps[j]) {
+                if (x == y || connected(x, y) != no_path) continue;
+                const double d = feature_distance(x, y);
+                if (d < best) {
+                  best = d;
+                  pick = {x, y, cx, cy};
+                }
+              }
+      if (best < HUGE_VAL) {
+        add_traced_pair(pick[0], pick[1], pick[2], pick[3]);
+        ++stats.face_paths;
+        continue;
+      }
+      // Handle cuts on simple patches of genus > 0.
+      bool cut = false;
+      for (int p = 0; p < c.patches && !cut; ++p)
+        if (topo.genus[p] > 0 && topo.loops[p].size() == 1) cut = cut_handle(c.loops[topo.loops[p][0]]);
+      if (cut) {
+        ++stats.face_paths;
+        continue;
+      }
+      for (int p = 0; p < c.patches; ++p)
+        if (topo.genus[p] > 0 || in_patch[p].size() != 1) throw_insufficient(c, topo, p);
+      // Triangulate: every patch is a disk now; a chord between two non-adjacent corners of a loop, joining
+      // distinct features not yet joined.
+      for (const auto& loop : c.loops) {
+        const std::size_t k = loop.size();
+        if (k <= 3) continue;
+        for (std::size_t i = 0; i < k; ++i)
+          for (std::size_t j = i + 2; j < k; ++j) {
+            if (i == 0 && j == k - 1) continue;
+            int x = loop[i].from, y = loop[j].from;
+            if (x == y || connected(x, y) != no_path) continue;
+            double d = feature_distance(x, y);
+            if (d < best) {
+              best = d;
+              pick = {x, y, loop[i].path, loop[j].path};
+            }
+          }
+      }
+      if (best < HUGE_VAL) {
+        add_traced_pair(pick[0], pick[1], pick[2], pick[3]);
+        ++stats.face_paths;
+        continue;
+      }
+      // Every chord left joins two features already joined elsewhere (on a surface with handles the layout
+      // graph need not be planar): free one by flipping the path that joins them.
+      bool unblocked = false;
+      for (std::size_t l = 0; l < c.loops.size() && !unblocked; ++l) {
+        const auto& loop = c.loops[l];
+        const std::size_t k = loop.size();
+        for (std::size_t i = 0; i < k && !unblocked; ++i)
+          for (std::size_t j = i + 2; j < k && !unblocked; ++j)
+            if (!(i == 0 && j == k - 1) && loop[i].from != loop[j].from)
+              unblocked = unblock_chord(loop[i].from, loop[j].from);
+      }
+      // No flip frees a chord: move a path that blocks one into the patch (each feature pair once).
+      for (std::size_t l = 0; l < c.loops.size() && !unblocked; ++l) {
+        const auto& loop = c.loops[l];
+        const std::size_t k = loop.size();
+        for (std::size_t i = 0; i < k && !unblocked; ++i)
+          for (std::size_t j = i + 2; j < k && !unblocked; ++j)
+            if (!(i == 0 && j == k - 1) && loop[i].from != loop[j].from)
+              unblocked = move_path_into(loop[i].from, loop[j].from, loop[i].path, loop[j].path);
+      }
+      // Nor a move: turn a side of the patch into a chord of the patch grown by the triangle beyond that side.
+      for (std::size_t l = 0; l < c.loops.size() && !unblocked; ++l)
+        if (c.loops[l].size() > 3) unblocked = rotate_side(c, c.loops[l]);
+      if (unblocked) continue;
+      for (std::size_t l = 0; l < c.loops.size(); ++l)
+        if (c.loops[l].size() != 3) throw_insufficient(c, topo, c.loop_patch[l]);
+      // A simple base mesh: no two triangles on the same three features.
+      std::map<std::array<int, 3>, std::size_t> corners_seen;
+      for (std::size_t l = 0; l < c.loops.size(); ++l) {
+        std::array<int, 3> t{c.loops[l][0].from, c.loops[l][1].from, c.loops[l][2].from};
+        std::sort(t.begin(), t.end());
+        auto [it, fresh] = corners_seen.insert({t, l});
+        if (!fresh) throw_insufficient(c, topo, c.loop_patch[l]);
+      }
+      return;
+    }
+    throw Algorithm_error("internal error: the layout of a mesh of genus " + std::to_string(genus) +
+                          " did not terminate");
+  }
+
+  /// Frees chord (x, y) of a disk patch when x and y are already joined by a path p elsewhere: if both sides of
+  /// p are triangular patches (x, y, c) and (y, x, d) (disks, as every patch is when this is called), p is flipped
+  /// to (c, d) inside their union, as in §3.3. Returns whether p was flipped.
+  bool unblock_chord(int x, int y) {
+    const int p = connected(x, y);
+    if (p == no_path) return false;
+    const Combinatorics c = combinatorics_rotations_only();
+    const Dart dab{p, path_ends[p][0]}, dba{p, path_ends[p][1]};
+    auto same = [](const Dart& u, const Dart& v) { return u.path == v.path && u.from == v.from; };
+    const Dart d1 = next_dart(c, dab), d2 = next_dart(c, d1), e1 = next_dart(c, dba), e2 = next_dart(c, e1);
+    if (!same(next_dart(c, d2), dab) || !same(next_dart(c, e2), dba)) return false; // not two triangles
+    if (same(d1, dba) || same(d2, dba) || same(e1, dab) || same(e2, dab)) return false; // one patch on both sides
+    const int cc = d2.from, dd = e2.from;
+    if (cc == dd || connected(cc, dd) != no_path) return false;
+    remove_path(p);
+    add_traced_pair(cc, dd, d2.path, e2.path);
+    ++stats.flips;
+    return true;
+  }
+
+  /// Pairs of features whose path move_path_into() has moved: each moves at most once, which bounds the moves.
+  std::set<std::pair<int, int>> moved_pairs;
+
+  /// Replaces the path joining x and y elsewhere by a chord (x, y) of a disk patch, from sector cx of x to sector
+  /// cy of y. The two patches on the sides of the old path merge and are triangulated again later.
+  bool move_path_into(int x, int y, int cx, int cy) {
+    const int p = connected(x, y);
+    if (p == no_path || p == cx || p == cy || !moved_pairs.insert({std::min(x, y), std::max(x, y)}).second) return false;
+    remove_path(p);
+    add_traced_pair(x, y, cx, cy);
+    return true;
+  }
+
+  /// Sides (feature pairs) that rotate_side() has turned: each at most once, which bounds the turns.
+  std::set<std::pair<int, int>> rotated_pairs;
+
+  /// For a disk patch with no admissible chord: a side (x, y) of its loop whose other side is a triangular
+  /// patch (y, x, v) is removed, and v is joined to a corner u of the loop (u not x, y, v and not joined to v)
+  /// across the union of the two patches, a disk, which the chord splits alike on both meshes.
+  bool rotate_side(const Combinatorics& c, const std::vector<Dart>& loop) {
+    auto same = [](const Dart& u, const Dart& v) { return u.path == v.path && u.from == v.from; };
+    const std::size_t k = loop.size();
+    double best = HUGE_VAL;
+    int pick_path = no_path, pick_v = -1, pick_u = -1, corner_v = 0, corner_u = 0;
+    for (std::size_t i = 0; i < k; ++i) {
+      const int q = loop[i].path, x = loop[i].from, y = loop[(i + 1) % k].from;
+      if (rotated_pairs.count({std::min(x, y), std::max(x, y)})) continue;
+      const Dart r{q, y}, e1 = next_dart(c, r), e2 = next_dart(c, e1);
+      if (!same(next_dart(c, e2), r)) continue; // the other side is not a triangle
+      bool inside = false;                      // the other side is this patch itself
+      for (const Dart& d : loop) inside |= same(d, r) || same(d, e1) || same(d, e2);
+      if (inside) continue;
+      const int v = e2.from;
+      for (std::size_t j = 0; j < k; ++j) {
+        const int u = loop[j].from;
+        if (u == x || u == y || u == v || connected(u, v) != no_path) continue;
+        if (loop[j].path == q) continue;
+        const double d = feature_distance(u, v);
+        if (d < best) {
+          best = d;
+          pick_path = q, pick_v = v, pick_u = u, corner_v = e2.path, corner_u = loop[j].path;
+        }
+      }
+    }
+    if (pick_path == no_path) return false;
+    const auto [x, y] = path_ends[pick_path];
+    rotated_pairs.insert({std::min(x, y), std::max(x, y)});
+    remove_path(pick_path);
+    add_traced_pair(pick_v, pick_u, corner_v, corner_u);
+    ++stats.flips;
+    return true;
+  }
+
+  /// Source patch label -> label of the same patch on mesh s (the face left of one of its darts).
+  int patch_on(int s, const Dart& d, const std::vector<int>& label) const {
+    return label[side[s].m.face(dart_halfedge(s, d))];
+  }
+
+  /// Cuts one handle of the patch bounded by `loop` (its only loop): a pair of paths between two corners of the
+  /// loop, distinct features not yet joined, that splits the patch on neither mesh (each crosses a handle cycle
+  /// of its mesh an odd number of times). Closest corners first; among the candidates of both meshes the most
+  /// consistent pair. If the free vertices of the patch are too few for such paths, the edges inside the patch
+  /// joining two of its boundary vertices are split once and the search repeated. Returns false if no pair
+  /// was found.
+  bool cut_handle(const std::vector<Dart>& loop) {
+    std::vector<std::tuple<double, int, int, int, int>> pairs;
+    for (std::size_t i = 0; i < loop.size(); ++i)
+      for (std::size_t j = i + 1; j < loop.size(); ++j) {
+        const int x = loop[i].from, y = loop[j].from;
+        if (x == y || connected(x, y) != no_path) continue;
+        pairs.push_back({feature_distance(x, y), x, y, loop[i].path, loop[j].path});
+      }
+    std::sort(pairs.begin(), pairs.end());
+    if (pairs.size() > max_handle_corner_pairs) pairs.resize(max_handle_corner_pairs);
+    const int tmp = int(path_ends.size());
+    for (int attempt = 0; attempt < 2; ++attempt) {
+      std::array<std::vector<int>, 2> label;
+      std::array<Layout_mesh::Handle_cycles, 2> hc;
+      for (int s = 0; s < 2; ++s) {
+        side[s].label_patches(label[s]);
+        hc[s] = side[s].handle_cycles(label[s], patch_on(s, loop[0], label[s]));
+      }
+      for (const auto& [d, x, y, cx, cy] : pairs) {
+        std::array<std::vector<Halfedge_path>, 2> found;
+        for (int s = 0; s < 2; ++s)
+          for (std::size_t k = 0; k < hc[s].leftover.size() && k < max_handle_cycles; ++k) {
+            Halfedge_path hp = side[s].handle_cutting_path(x, y, cx, cy, hc[s], hc[s].leftover[k]);
+            if (!hp.empty() && !side[s].split_signature(hp, tmp, degree).splits) found[s].push_back(std::move(hp));
+          }
+        if (found[0].empty() || found[1].empty()) continue;
+        std::size_t bi = 0, bj = 0;
+        double bc = HUGE_VAL;
+        for (std::size_t i = 0; i < found[0].size(); ++i)
+          for (std::size_t j = 0; j < found[1].size(); ++j) {
+            const double q = consistent_paths ? consistency(found[0][i], found[1][j])
+                                              : side[0].path_length(found[0][i]) + side[1].path_length(found[1][j]);
+            if (q < bc) bc = q, bi = i, bj = j;
+          }
+        if (!non_blocking(found[0][bi], found[1][bj]))
+          throw Algorithm_error("internal error: two handle cuts of matching patches differ");
+        add_path(x, y, found[0][bi], found[1][bj]);
+        return true;
+      }
+      if (attempt == 0)
+        for (int s = 0; s < 2; ++s) refine_patch(s, label[s], patch_on(s, loop[0], label[s]));
+    }
+    return false;
+  }
+
+  /// Splits every non-path edge of a patch whose two ends are on its boundary: the patch gains free vertices
+  /// along its boundary.
+  void refine_patch(int s, const std::vector<int>& label, int patch) {
+    Layout_mesh& L = side[s];
+    std::vector<std::pair<WV, WV>> todo;
+    for (WE e : L.m.edges()) {
+      const WH h = L.m.halfedge(e);
+      if (L.epath[e] != no_path || label[L.m.face(h)] != patch) continue;
+      if (!L.is_free(L.m.source(h)) && !L.is_free(L.m.target(h))) todo.push_back({L.m.source(h), L.m.target(h)});
+    }
+    for (auto [u, v] : todo) L.split_edge(u, v);
+  }
+
+  /// Throws Insufficient_features_error for source patch `p` of `c`: its corner features, what it still carries,
+  /// and per mesh an input vertex near a handle of it (on a handle cycle) or deep inside it.
+  [[noreturn]] void throw_insufficient(const Combinatorics& c, const Patch_topology& topo, int p) const {
+    std::vector<int> corners;
+    for (std::size_t l : topo.loops[p])
+      for (const Dart& d : c.loops[l]) corners.push_back(d.from);
+    for (std::size_t a = 0; a < nf(); ++a)
+      if (c.isolated_patch[a] == p) corners.push_back(int(a));
+    std::sort(corners.begin(), corners.end());
+    corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+    std::ostringstream msg;
+    msg << "too few features for meshes of genus " << genus << ": the patch with corner feature"
+        << (corners.size() == 1 ? " " : "s ");
+    for (std::size_t i = 0; i < corners.size(); ++i) msg << (i ? ", " : "") << corners[i];
+    const std::size_t loops = topo.loops[p].size();
+    if (topo.genus[p] > 0)
+      msg << " still has " << topo.genus[p] << (topo.genus[p] == 1 ? " handle" : " handles");
+    else if (loops != 1)
+      msg << " still has " << loops << " boundary loops";
+    else
+      msg << " cannot be cut into triangles without joining two features twice";
+    msg << " on both meshes; one more corresponding feature near";
+    const char* names[2] = {"source", "target"};
+    for (int s = 0; s < 2; ++s) {
+      std::vector<int> label;
+      side[s].label_patches(label);
+      int ps = -1;
+      if (!topo.loops[p].empty())
+        ps = patch_on(s, c.loops[topo.loops[p].front()].front(), label);
+      else if (!corners.empty())
+        ps = label[side[s].m.face(side[s].out_halfedge(side[s].feature_vertex[corners.front()]))];
+      msg << (s ? " and" : "") << " " << names[s] << " vertex " << hint_vertex(s, label, ps);
+    }
+    msg << " would help (give about four features around each handle)";
+    throw Insufficient_features_error(msg.str());
+  }
+
+  /// An input vertex of mesh s in patch `patch`: an end of its first handle cycle's leftover edge if it has
+  /// handles, otherwise the free vertex farthest (in edges) from its boundary.
+  std::size_t hint_vertex(int s, const std::vector<int>& label, int patch) const {
+    const Layout_mesh& L = side[s];
+    const auto hc = L.handle_cycles(label, patch);
+    WV v = L.feature_vertex.empty() ? WV(0) : L.feature_vertex[0];
+    if (!hc.leftover.empty()) {
+      const WH h = L.m.halfedge(hc.leftover.front());
+      v = L.is_free(L.m.source(h)) ? L.m.source(h) : L.m.target(h);
+    } else {
+      int deepest = -1;
+      for (WV w : L.m.vertices())
+        if (hc.depth[w] > deepest) deepest = hc.depth[w], v = w;
+    }
+    return L.input_vertex_near(v);
   }
 
   // ---------------------------------------------------------------------------------------------------

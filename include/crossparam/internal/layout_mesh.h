@@ -527,6 +527,230 @@ public:
     return s;
   }
 
+  // ---- topology of regions bounded by paths (genus > 0, paper §3.1 rule 4) ----
+
+  /// Euler characteristic V - E + F of every region of faces (label[f] in [0, n), -1 for faces outside every
+  /// region), each region taken as a surface cut open along the path edges: a path edge bounding a region
+  /// counts once per side it shows, and a vertex counts once per fan of faces between consecutive path edges
+  /// around it (once if no path edge reaches it).
+  std::vector<long> euler_characteristics(const std::vector<int>& label, int n) const {
+    std::vector<long> faces_(std::size_t(n), 0), half_edges2(std::size_t(n), 0), fans(std::size_t(n), 0);
+    std::vector<char> counted(m.number_of_vertices(), 0);
+    for (WF f : m.faces()) {
+      const int r = label[f];
+      if (r < 0) continue;
+      ++faces_[r];
+      for (WH h : CGAL::halfedges_around_face(m.halfedge(f), m)) {
+        half_edges2[r] += path_of(h) != no_path ? 2 : 1; // a cut edge shows this side only
+        if (path_of(m.next(h)) != no_path) ++fans[r];    // the fan at target(h) starting at this face
+        const WV v = m.target(h);
+        if (counted[v]) continue;
+        counted[v] = 1;
+        bool on_path = false;
+        for (WH g : CGAL::halfedges_around_target(v, m)) on_path |= path_of(g) != no_path;
+        if (!on_path) ++fans[r];
+      }
+    }
+    std::vector<long> chi(static_cast<std::size_t>(n), 0);
+    for (int r = 0; r < n; ++r) chi[r] = fans[r] - half_edges2[r] / 2 + faces_[r];
+    return chi;
+  }
+
+  /// One side of a candidate path: the path sides bounding the region (dart 2p: the left side of path p, 2p + 1:
+  /// its right side; sorted), the isolated features inside and the region's Euler characteristic.
+  struct Region_signature {
+    std::vector<int> darts;
+    std::vector<int> isolated;
+    long euler = 0;
+    bool operator==(const Region_signature& o) const {
+      return darts == o.darts && isolated == o.isolated && euler == o.euler;
+    }
+  };
+  /// Both sides of a candidate path `hp` (id `tmp_id`) inside its patch: whether it splits the patch and, if it
+  /// does, the signatures of its left and right parts. Meshes of genus > 0 (paper §3.1 rule 4.2): parts that
+  /// match in their bounding darts and isolated features must match in genus too, compared by Euler
+  /// characteristic.
+  struct Split_signature {
+    bool splits = false;
+    Region_signature left, right;
+  };
+  Split_signature split_signature(const Halfedge_path& hp, int tmp_id, const std::vector<int>& feature_degree) const {
+    auto& self = const_cast<Layout_mesh&>(*this);
+    for (WH h : hp) self.epath[m.edge(h)] = tmp_id;
+    std::vector<int> label(m.number_of_faces(), -1);
+    auto fill = [&](WF f0, int r) {
+      std::vector<WF> stack{f0};
+      label[f0] = r;
+      while (!stack.empty()) {
+        WF f = stack.back();
+        stack.pop_back();
+        for (WH h : CGAL::halfedges_around_face(m.halfedge(f), m)) {
+          if (path_of(h) != no_path) continue;
+          WF g = m.face(m.opposite(h));
+          if (label[g] < 0) {
+            label[g] = r;
+            stack.push_back(g);
+          }
+        }
+      }
+    };
+    const WF fl = m.face(hp.front()), fr = m.face(m.opposite(hp.front()));
+    fill(fl, 0);
+    Split_signature s;
+    s.splits = label[fr] < 0;
+    if (s.splits) {
+      fill(fr, 1);
+      const std::vector<long> chi = euler_characteristics(label, 2);
+      Region_signature* sides[2] = {&s.left, &s.right};
+      for (int r = 0; r < 2; ++r) sides[r]->euler = chi[r];
+      auto side_of = [&](const Halfedge_path& p, int id) {
+        const int l = label[m.face(p.front())], r = label[m.face(m.opposite(p.front()))];
+        if (l >= 0) sides[l]->darts.push_back(2 * id);
+        if (r >= 0) sides[r]->darts.push_back(2 * id + 1);
+      };
+      for (std::size_t p = 0; p < paths.size(); ++p)
+        if (!paths[p].empty() && int(p) != tmp_id) side_of(paths[p], int(p));
+      side_of(hp, tmp_id);
+      for (std::size_t k = 0; k < feature_vertex.size(); ++k) {
+        if (feature_degree[k] != 0) continue;
+        const int r = label[m.face(out_halfedge(feature_vertex[k]))];
+        if (r >= 0) sides[r]->isolated.push_back(int(k));
+      }
+    }
+    for (WH h : hp) self.epath[m.edge(h)] = no_path;
+    return s;
+  }
+
+  /// The region of patch `patch` (faces with label[f] == patch) with its boundary collapsed to one point S, and
+  /// a tree-cotree decomposition of it (Eppstein): T spans the free vertices from S over non-path edges, C spans
+  /// the faces over the non-path edges not in T. Each remaining ("leftover") edge closes a cycle of faces in C
+  /// that crosses a handle of the patch; there are twice as many as the patch has handles. Used to cut handles
+  /// and to point at them.
+  struct Handle_cycles {
+    std::vector<WE> leftover;             ///< non-path edges of the patch in neither tree
+    std::vector<WH> cotree_parent;        ///< per face: the halfedge (in the face) crossed from its parent in C
+    std::vector<int> depth;               ///< per vertex: edges of T from S (-1 outside the patch)
+  };
+  Handle_cycles handle_cycles(const std::vector<int>& label, int patch) const {
+    Handle_cycles hc;
+    const std::size_t nv = m.number_of_vertices();
+    hc.depth.assign(nv, -1);
+    std::vector<char> in_tree(m.number_of_edges(), 0);
+    std::vector<WV> queue;
+    auto face_in = [&](WH h) { return !m.is_border(h) && label[m.face(h)] == patch; };
+    for (WF f : m.faces()) // S: every boundary (non-free) vertex of the patch
+      if (label[f] == patch)
+        for (WV v : CGAL::vertices_around_face(m.halfedge(f), m))
+          if (!is_free(v) && hc.depth[v] < 0) {
+            hc.depth[v] = 0;
+            queue.push_back(v);
+          }
+    for (std::size_t i = 0; i < queue.size(); ++i) {
+      const WV v = queue[i];
+      for (WH h : CGAL::halfedges_around_source(v, m)) {
+        if (path_of(h) != no_path || !face_in(h)) continue;
+        const WV w = m.target(h);
+        if (!is_free(w) || hc.depth[w] >= 0) continue;
+        hc.depth[w] = hc.depth[v] + 1;
+        in_tree[m.edge(h)] = 1;
+        queue.push_back(w);
+      }
+    }
+    hc.cotree_parent.assign(m.number_of_faces(), WH());
+    std::vector<char> reached(m.number_of_faces(), 0), in_cotree(m.number_of_edges(), 0);
+    for (WF f0 : m.faces()) {
+      if (label[f0] != patch) continue;
+      std::vector<WF> fq{f0};
+      reached[f0] = 1;
+      for (std::size_t i = 0; i < fq.size(); ++i)
+        for (WH h : CGAL::halfedges_around_face(m.halfedge(fq[i]), m)) {
+          if (path_of(h) != no_path || in_tree[m.edge(h)]) continue;
+          const WF g = m.face(m.opposite(h));
+          if (reached[g]) continue;
+          reached[g] = 1;
+          hc.cotree_parent[g] = m.opposite(h);
+          in_cotree[m.edge(h)] = 1;
+          fq.push_back(g);
+        }
+      break; // the patch is connected
+    }
+    for (WE e : m.edges()) {
+      const WH h = m.halfedge(e);
+      if (path_of(h) == no_path && face_in(h) && !in_tree[e] && !in_cotree[e]) hc.leftover.push_back(e);
+    }
+    return hc;
+  }
+
+  /// A simple edge path through free vertices of one patch from sector `corner_a` of feature a to sector
+  /// `corner_b` of feature b that crosses the cycle of faces closed by leftover edge `cycle` of `hc` an odd
+  /// number of times: such a path cannot split its patch (a closed curve meets it once, mod 2), so it cuts a
+  /// handle. Shortest such path (parity-doubled Dijkstra); empty if none exists or the shortest is not simple.
+  Halfedge_path handle_cutting_path(int a, int b, int corner_a, int corner_b, const Handle_cycles& hc,
+                                    WE cycle) const {
+    std::vector<char> flips(m.number_of_edges(), 0);
+    flips[cycle] ^= 1;
+    for (WH side : {m.halfedge(cycle), m.opposite(m.halfedge(cycle))})
+      for (WF f = m.face(side); hc.cotree_parent[f] != WH(); f = m.face(m.opposite(hc.cotree_parent[f])))
+        flips[m.edge(hc.cotree_parent[f])] ^= 1;
+    const WV va = feature_vertex[a], vb = feature_vertex[b];
+    const std::size_t nv = m.number_of_vertices();
+    std::vector<double> dist(2 * nv, HUGE_VAL);
+    std::vector<WH> pred(2 * nv, WH());
+    using QE = std::pair<double, std::size_t>;
+    std::priority_queue<QE, std::vector<QE>, std::greater<QE>> q;
+    auto state = [&](WV v, int parity) { return 2 * std::size_t(v) + std::size_t(parity); };
+    auto relax = [&](WH h, int parity, double d) {
+      const WV w = m.target(h);
+      if (w == vb) {
+        if (corner_of_outgoing(m.opposite(h)) != corner_b) return;
+      } else if (!is_free(w)) {
+        return;
+      }
+      const int np = parity ^ flips[m.edge(h)];
+      const double nd = d + edge_length(h);
+      if (nd < dist[state(w, np)]) {
+        dist[state(w, np)] = nd;
+        pred[state(w, np)] = h;
+        q.push({nd, state(w, np)});
+      }
+    };
+    for (WH h : CGAL::halfedges_around_source(va, m))
+      if (path_of(h) == no_path && corner_of_outgoing(h) == corner_a) relax(h, 0, 0);
+    const std::size_t goal = state(vb, 1);
+    while (!q.empty()) {
+      auto [d, st] = q.top();
+      q.pop();
+      if (d > dist[st]) continue;
+      if (st == goal) break;
+      const WV v(WV::size_type(st / 2));
+      if (v == vb) continue;
+      for (WH h : CGAL::halfedges_around_source(v, m))
+        if (path_of(h) == no_path) relax(h, int(st % 2), d);
+    }
+    if (dist[goal] == HUGE_VAL) return {};
+    Halfedge_path hp;
+    std::vector<char> used(nv, 0);
+    for (std::size_t st = goal;;) {
+      const WH h = pred[st];
+      hp.push_back(h);
+      const WV s = m.source(h);
+      if (s == va) break;
+      if (used[s]) return {}; // visits a vertex in both parities: not simple
+      used[s] = 1;
+      st = state(s, int(st % 2) ^ flips[m.edge(h)]);
+    }
+    std::reverse(hp.begin(), hp.end());
+    return hp;
+  }
+
+  /// An input vertex at or next to working vertex v (a split vertex is replaced by an end of its split edge).
+  std::size_t input_vertex_near(WV v) const {
+    std::size_t i = std::size_t(v);
+    for (auto it = splits.rbegin(); it != splits.rend() && i >= n_original_vertices; ++it)
+      if (it->w == i) i = it->u;
+    return i;
+  }
+
   // ---- face paths (paper §3.2, Fig. 3) ----
 
   Point_3 face_centroid(WF f) const {
