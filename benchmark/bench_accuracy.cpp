@@ -84,6 +84,30 @@ void detail(const wide_bench::Case& c, const wide_bench::Outcome& o) {
     std::vector<std::pair<std::string, std::size_t>> marks;
     for (std::size_t k = 0; k < c.features.size(); ++k) marks.push_back({"f" + std::to_string(k), c.features[k].target});
     for (std::size_t k = 0; k < c.landmarks.size(); ++k) marks.push_back({"s" + std::to_string(k), c.landmarks[k].second});
+    // The protrusion features the map added: the landmarks nearest to their two ends (a pair whose ends are
+    // near different landmarks joins different parts of the animals).
+    std::vector<std::pair<std::string, std::size_t>> source_marks;
+    for (std::size_t k = 0; k < c.features.size(); ++k) source_marks.push_back({"f" + std::to_string(k), c.features[k].source});
+    for (std::size_t k = 0; k < c.landmarks.size(); ++k) source_marks.push_back({"s" + std::to_string(k), c.landmarks[k].first});
+    const double norm_s = std::sqrt(CGAL::Polygon_mesh_processing::area(c.source));
+    auto nearest = [](const Surface_mesh& m, const std::vector<std::pair<std::string, std::size_t>>& ms, const Point_3& p,
+                      double scale) {
+      double best = HUGE_VAL;
+      std::string who;
+      for (const auto& [n, v] : ms) {
+        const double d = std::sqrt(CGAL::squared_distance(p, wide_bench::point(m, v))) / scale;
+        if (d < best) best = d, who = n;
+      }
+      return std::make_pair(who, best);
+    };
+    std::printf("  squeeze source %.3g, target %.3g\n", o.stats.squeeze_source, o.stats.squeeze_target);
+    for (std::size_t k = c.features.size(); k < o.map_features.size(); ++k) {
+      const auto a = nearest(c.source, source_marks, wide_bench::point(c.source, o.map_features[k].source), norm_s);
+      const auto b = nearest(c.target, marks, wide_bench::point(c.target, o.map_features[k].target), norm);
+      std::printf("  protrusion feature %zu: source %zu near %s (%.3f), target %zu near %s (%.3f)%s\n", k,
+                  o.map_features[k].source, a.first.c_str(), a.second, o.map_features[k].target, b.first.c_str(),
+                  b.second, a.first == b.first ? "" : "  <- different landmarks");
+    }
     std::printf("  | scored | source v | target v | error | baseline | lands nearest to | its distance |\n");
     std::printf("  |---|---:|---:|---:|---:|---|---:|\n");
     for (std::size_t k = 0; k < o.points.size(); ++k) {

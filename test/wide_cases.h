@@ -291,6 +291,7 @@ struct Outcome {
   double aligned_mean = 0;                    ///< the same after a similarity fitted to the features
   double seconds = 0;
   crossparam::Cross_parameterization_statistics stats;
+  Feature_correspondence map_features; ///< the map's features: the case's, then the protrusion features added
   std::vector<Scored> points;
 };
 
@@ -369,6 +370,7 @@ Outcome evaluate(const Case& c, const NP& np = CGAL::parameters::default_values(
     o.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     o.stats = cp.statistics();
     o.protrusion_features = o.stats.protrusion_features;
+    o.map_features = cp.features();
     std::vector<std::array<Surface_mesh::Vertex_index, 3>> tri;
     for (auto f : t0.faces()) {
       std::array<Surface_mesh::Vertex_index, 3> a;
