@@ -8,11 +8,15 @@
 //   --detail     after each case, where its scored points land: per landmark (the target landmark nearest to
 //                the image, to show swaps) or, for dense truth, per region of the source (the geodesic Voronoi
 //                cell of each feature)
-//   --ply DIR    write DIR/<case>_source.ply, the source coloured by the error of each vertex (dense cases) and
-//                DIR/<case>_image.ply, the target with the images of the scored landmarks marked
+//   --ply DIR    write DIR/<case>_source.ply, the source coloured by the error of each vertex (dense cases, blue
+//                0 to red at 0.1), or DIR/<case>_image.ply, the target with the true partners of the scored
+//                landmarks green and the vertices nearest to their images red (landmark cases)
+//   --png        with --ply, render the same meshes to PNG with POV-Ray (tools/cli/render.h)
+//   --view X,Y,Z --up X,Y,Z   the camera of --png (direction from the object to the camera, the up vector)
 //   --threads N  threads of the map (default 1: the figures do not depend on it, the times do)
 #include "../test/wide_cases.h"
 
+#include "../tools/cli/render.h"
 #include "bench_common.h"
 
 #include <cstdio>
@@ -26,6 +30,10 @@ namespace {
 
 /// Error at which the colour scale of --ply saturates (red), in units of sqrt(target area).
 constexpr double ply_error_scale = 0.1;
+/// Radius of the landmark marks of --ply, in units of sqrt(target area): large enough to see on a picture.
+constexpr double ply_mark_radius = 0.02;
+
+cli::Render_options render_options;
 
 std::array<unsigned char, 3> heat(double e) {
   const double x = std::clamp(e / ply_error_scale, 0.0, 1.0);
@@ -145,7 +153,17 @@ void detail(const wide_bench::Case& c, const wide_bench::Outcome& o) {
                 acc[k].n ? acc[k].sum / double(acc[k].n) : 0.0, acc[k].max, 100 * acc[k].sum / std::max(total, 1e-300));
 }
 
-void write_ply(const fs::path& dir, const wide_bench::Case& c, const wide_bench::Outcome& o) {
+void output(const fs::path& path, const std::vector<std::array<double, 3>>& pts,
+            const std::vector<std::array<std::size_t, 3>>& tris, const std::vector<std::array<unsigned char, 3>>& col,
+            bool png) {
+  write_ply_vertex_colored(path.string(), pts, tris, col);
+  if (!png) return;
+  cli::Render_mesh m{pts, tris, {}, col};
+  fs::path p = path;
+  cli::render_png(m, p.replace_extension(".png").string(), render_options);
+}
+
+void write_ply(const fs::path& dir, const wide_bench::Case& c, const wide_bench::Outcome& o, bool png) {
   fs::create_directories(dir);
   std::vector<std::array<double, 3>> pts;
   std::vector<std::array<std::size_t, 3>> tris;
@@ -153,16 +171,17 @@ void write_ply(const fs::path& dir, const wide_bench::Case& c, const wide_bench:
     soup(c.source, pts, tris);
     std::vector<std::array<unsigned char, 3>> col(pts.size(), {128, 128, 128});
     for (const wide_bench::Scored& p : o.points) col[p.source_vertex] = heat(p.error);
-    write_ply_vertex_colored((dir / (file_name(c.name) + "_source.ply")).string(), pts, tris, col);
+    output(dir / (file_name(c.name) + "_source.ply"), pts, tris, col, png);
     return;
   }
   // Landmarks: the target grey, the true partners' one-rings green, the images' nearest vertices' one-rings red.
   soup(c.target, pts, tris);
   std::vector<std::array<unsigned char, 3>> col(pts.size(), {160, 160, 160});
+  const double radius = ply_mark_radius * std::sqrt(CGAL::Polygon_mesh_processing::area(c.target));
   auto mark = [&](std::size_t v, std::array<unsigned char, 3> rgb) {
-    const auto vi = Surface_mesh::Vertex_index(Surface_mesh::size_type(v));
-    col[v] = rgb;
-    for (auto w : CGAL::vertices_around_target(c.target.halfedge(vi), c.target)) col[std::size_t(w)] = rgb;
+    const Point_3 centre = wide_bench::point(c.target, v);
+    for (auto w : c.target.vertices())
+      if (CGAL::squared_distance(c.target.point(w), centre) <= radius * radius) col[std::size_t(w)] = rgb;
   };
   for (const wide_bench::Scored& p : o.points) {
     mark(p.target_vertex, {0, 200, 0});
@@ -174,21 +193,30 @@ void write_ply(const fs::path& dir, const wide_bench::Case& c, const wide_bench:
     }
     mark(near, {220, 0, 0});
   }
-  write_ply_vertex_colored((dir / (file_name(c.name) + "_image.ply")).string(), pts, tris, col);
+  output(dir / (file_name(c.name) + "_image.ply"), pts, tris, col, png);
 }
 
 } // namespace
 
 int main(int argc, char** argv) {
   std::vector<std::string> filters;
-  bool show_detail = false;
+  bool show_detail = false, png = false;
   fs::path ply_dir;
   unsigned threads = 1;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--detail")
       show_detail = true;
-    else if (a == "--ply" && i + 1 < argc)
+    else if (a == "--png")
+      png = true;
+    else if ((a == "--view" || a == "--up") && i + 1 < argc) {
+      std::array<double, 3> x{};
+      if (std::sscanf(argv[++i], "%lf,%lf,%lf", &x[0], &x[1], &x[2]) != 3) {
+        std::fprintf(stderr, "bench_accuracy: %s takes X,Y,Z\n", a.c_str());
+        return 2;
+      }
+      (a == "--view" ? render_options.view_direction : render_options.up) = x;
+    } else if (a == "--ply" && i + 1 < argc)
       ply_dir = argv[++i];
     else if (a == "--threads" && i + 1 < argc)
       threads = unsigned(std::stoul(argv[++i]));
@@ -232,7 +260,7 @@ int main(int argc, char** argv) {
                   o.seconds);
     std::fflush(stdout);
     if (show_detail && o.ok) detail(*c, o);
-    if (!ply_dir.empty() && o.ok) write_ply(ply_dir, *c, o);
+    if (!ply_dir.empty() && o.ok) write_ply(ply_dir, *c, o, png);
     all.emplace_back(n, o);
     by_family[wide_bench::family(n) + (c->is_dense() ? " (dense)" : " (landmarks)")].emplace_back(n, o);
     by_family[c->is_dense() ? "all dense" : "all landmark"].emplace_back(n, o);
