@@ -284,6 +284,7 @@ struct Scored {
 /// The outcome of one case.
 struct Outcome {
   bool ok = false;
+  bool dense = false;  ///< dense truth (else held-out landmarks)
   std::string message; ///< the exception's, when the map failed
   std::size_t source_vertices = 0, target_vertices = 0, features = 0, protrusion_features = 0;
   double mean = 0, median = 0, max = 0;
@@ -341,6 +342,7 @@ Outcome evaluate(const Case& c, const NP& np = CGAL::parameters::default_values(
   o.source_vertices = s.number_of_vertices();
   o.target_vertices = t.number_of_vertices();
   o.features = c.features.size();
+  o.dense = c.is_dense();
   const double norm = std::sqrt(PMP::area(t0));
 
   // The baselines: nearest target point to each scored source point, as given and after the features'
