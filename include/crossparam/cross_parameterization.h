@@ -270,15 +270,12 @@ public:
   /// \brief Feature pairs that would remove this map's worst squeeze: one per protrusion tip.
   ///
   /// A protrusion without a feature inside one patch (a limb, a tail, an ear) is squeezed exponentially by
-  /// the parameterization: its vertices' stretch is 10^3 to 10^8 times the median. Such a cluster (connected
-  /// vertices above 100 times the median, at least `min_size` of them) has its tip where the stretch peaks.
-  /// The tip's partner on the other mesh is the vertex with the nearest geodesic-distance descriptor
-  /// (distances to the features). Two clusters, one per mesh, whose tips' partners lie in each other are
-  /// paired: tip with tip, or, if only one peaks above `min_squeeze` times the median, that one's tip with its
-  /// partner. A cluster whose partner lies in no cluster of the other mesh is paired with that partner only if
-  /// it peaks above `min_squeeze` times the median and the partner's own partner comes back into it. Other
-  /// matches are one-way and dropped. Vertices are input vertices (the nearest one to a split vertex); no
-  /// vertex already a feature is used again.
+  /// the parameterization: its vertices' stretch is 10^4 to 10^8 times the median. Such a cluster (connected
+  /// vertices above 100 times the median, at least `min_size` of them, peaking above `min_squeeze` times the
+  /// median) has its tip where the stretch peaks. The tip's partner on the other mesh is the vertex with the
+  /// nearest geodesic-distance descriptor (distances to the features); if that lies in a squeezed cluster of
+  /// the other mesh, the two tips are paired. Vertices are input vertices (the nearest one to a split vertex);
+  /// no vertex already a feature is used again.
   Feature_correspondence protrusion_tips(double min_squeeze = 1e4, std::size_t min_size = 20) const {
     using internal::WV;
     struct Cluster {
@@ -355,50 +352,19 @@ public:
       used[1].insert(b);
       out.push_back({a, b});
     };
-    // A pair is kept only if the descriptors agree both ways; a one-way match is ambiguous (a hind foot whose
-    // nearest descriptor is the other animal's tail tip, while that tail tip's nearest is the first animal's
-    // other hind foot) and is dropped: a limb left squeezed costs less than a limb mapped onto another one.
-    auto sized = [&](int k, int c) { return c >= 0 && clusters[k][std::size_t(c)].size >= min_size; };
-    std::array<std::vector<WV>, 2> tip_partner;
-    std::array<std::vector<bool>, 2> paired;
-    for (int k = 0; k < 2; ++k) {
-      tip_partner[k].assign(clusters[k].size(), WV());
-      paired[k].assign(clusters[k].size(), false);
-      for (std::size_t c = 0; c < clusters[k].size(); ++c)
-        if (sized(k, int(c))) tip_partner[k][c] = partner(k, clusters[k][c].tip);
-    }
-    // 1. A cluster on each mesh, each tip's partner in the other cluster: both meshes squeeze a limb and the
-    //    descriptors agree both ways, evidence enough without a bound on the squeeze. The two tips are paired,
-    //    except when only one of the clusters peaks above min_squeeze: the peak of a weakly squeezed limb marks
-    //    its tip poorly, so the strong tip is paired with its partner instead.
+    std::vector<bool> paired(clusters[1].size(), false);
     for (std::size_t c = 0; c < clusters[0].size(); ++c) {
-      if (!sized(0, int(c))) continue;
-      const WV t = tip_partner[0][c];
+      if (!strong(0, int(c))) continue;
+      WV t = partner(0, clusters[0][c].tip);
       const int ct = cluster_of[1][t];
-      if (!sized(1, ct) || cluster_of[0][tip_partner[1][std::size_t(ct)]] != int(c)) continue;
-      paired[0][c] = paired[1][std::size_t(ct)] = true;
-      const Cluster& other = clusters[1][std::size_t(ct)];
-      const bool strong_s = strong(0, int(c)), strong_t = strong(1, ct);
-      if (strong_s && !strong_t)
-        add(clusters[0][c].tip, t);
-      else if (strong_t && !strong_s)
-        add(tip_partner[1][std::size_t(ct)], other.tip);
-      else
-        add(clusters[0][c].tip, other.tip);
-    }
-    // 2. A limb squeezed on one mesh only (its tip's partner in no cluster of the other mesh): the squeeze must
-    //    be strong, and the partner's own partner must come back into the cluster.
-    for (int k = 0; k < 2; ++k)
-      for (std::size_t c = 0; c < clusters[k].size(); ++c) {
-        if (paired[k][c] || !strong(k, int(c))) continue;
-        const WV u = tip_partner[k][c];
-        if (sized(1 - k, cluster_of[1 - k][u])) continue; // the other mesh squeezes a limb there: one-way match
-        if (cluster_of[k][partner(1 - k, u)] != int(c)) continue;
-        if (k == 0)
-          add(clusters[0][c].tip, u);
-        else
-          add(u, clusters[1][c].tip);
+      if (strong(1, ct)) {
+        t = clusters[1][ct].tip;
+        paired[ct] = true;
       }
+      add(clusters[0][c].tip, t);
+    }
+    for (std::size_t c = 0; c < clusters[1].size(); ++c)
+      if (strong(1, int(c)) && !paired[c]) add(partner(1, clusters[1][c].tip), clusters[1][c].tip);
     return out;
   }
 
