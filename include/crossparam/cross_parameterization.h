@@ -11,6 +11,7 @@
 #include <crossparam/types.h>
 #include <crossparam/internal/base_locator.h>
 #include <crossparam/internal/parallel.h>
+#include <crossparam/internal/time_budget.h>
 
 #include <CGAL/Polygon_mesh_processing/locate.h>
 
@@ -68,7 +69,15 @@ struct Cross_parameterization_access;
 ///   - `crossparam::parameters::smoothing_weights` (a `SmoothingWeights` model, default `Mean_value_weights`);
 ///   - `crossparam::parameters::apply_smoothing` (bool, default true);
 ///   - `crossparam::parameters::number_of_threads` (unsigned, default 0: one per hardware thread): the two
-///     meshes are smoothed on a thread each, the distortion is measured on as many; the map does not depend on it.
+///     meshes are smoothed on a thread each, the distortion is measured on as many; the map does not depend on it;
+///   - `crossparam::parameters::time_limit` (double, seconds, default none) and `best_effort` (bool, default
+///     false): the constructor's time budget, checked between its steps, at every stretch-reweighting round
+///     and every smoothing round; when it runs out it throws `Time_limit_error`, or with `best_effort`, during
+///     the smoothing, keeps the best smoothing state reached and finishes (certificate included).
+///
+/// Work bounds: the protrusion probe is one more map on copies; the layout traces one path per base edge;
+/// the initial parameterization solves one linear system per patch, at most 12 more with stretch reweighting;
+/// the smoothing makes at most `number_of_iterations` passes over the vertices.
 template <class SourceMesh, class TargetMesh>
 class Cross_parameterization {
 public:
@@ -96,6 +105,7 @@ public:
     auto weights = choose_parameter(get_parameter(np_source, internal_np::smoothing_weights_t()), Mean_value_weights());
     const unsigned threads_requested = choose_parameter(get_parameter(np_source, internal_np::number_of_threads_t()), 0u);
     threads_ = internal::thread_count(threads_requested);
+    const internal::Time_budget budget = internal::Time_budget::from(np_source);
 
     // Contracts first, once (the protrusion probe below is built from checked copies and skips them).
     if (!internal::are_inputs_checked(np_source)) internal::check_layout_inputs(tm_s, tm_t, features, np_source, np_target);
@@ -119,13 +129,15 @@ public:
           cs, ct, features,
           internal::inputs_checked(protrusion_features(false, smoothing_weights(weights, smoothing_tolerance(so.tolerance,
               apply_smoothing(smooth, apply_path_flips(flips, consistent_paths(consistent,
-                  number_of_threads(threads_requested, number_of_iterations(so.max_iterations))))))))));
+                  number_of_threads(threads_requested, time_limit(budget.remaining(), best_effort(budget.best_effort(),
+                      number_of_iterations(so.max_iterations))))))))))));
       const Feature_correspondence tips = probe.protrusion_tips();
       features_.insert(features_.end(), tips.begin(), tips.end());
       stats_.protrusion_features = tips.size();
       stats_.seconds_probe = sec(t0, clock::now());
     }
 
+    budget.check("the cross-parameterization", [] { return std::string("before the patch layouts"); });
     std::array<std::vector<int>, 2> work_tri;
     layout_ = internal::compute_patch_layouts_impl(tm_s, tm_t, features_, np_source, np_target, B_, true, &work_tri,
                                                    &link_s_, &link_t_);
@@ -135,6 +147,7 @@ public:
       base_.build(layout_.base_triangles, features_.size(),
                   [&](int a, int b) { return lengths.at({std::min(a, b), std::max(a, b)}); });
     }
+    budget.check("the cross-parameterization", [] { return std::string("after the patch layouts"); });
     const auto t1 = clock::now();
 
     // §4.1: mean-value parameterization of every patch onto its base triangle.
@@ -150,6 +163,10 @@ public:
       // (Yoshizawa et al. 2004) spreads it out while the weights stay positive, so the map stays one-to-one.
       std::vector<double> factor(B_.side[k].m.number_of_vertices(), 1.0);
       for (unsigned round = 0; !c.valid && round < max_stretch_rounds; ++round) {
+        budget.check("the initial parameterization", [&] {
+          return std::string(k ? "target" : "source") + ", stretch reweighting round " + std::to_string(round + 1) +
+                 " of at most " + std::to_string(max_stretch_rounds);
+        });
         *fallback[k] = true;
         std::vector<double> sigma = P_[k].vertex_stretch();
         double mean = 0;
@@ -187,6 +204,10 @@ public:
       unsigned bad = 0, done = 0;
       const unsigned per_round = 5, patience = 2;
       while (done < so.max_iterations) {
+        if (budget.stop("the map's smoothing", [&] {
+              return std::to_string(done) + " of at most " + std::to_string(so.max_iterations) + " passes";
+            }))
+          break; // best effort: keep the best state so far
         // The two meshes' passes are independent (each moves only its own vertices): one thread each.
         const unsigned passes = std::min(per_round, so.max_iterations - done);
         internal::parallel_invoke(
@@ -232,6 +253,7 @@ public:
       }
     }
     const auto t4 = clock::now();
+    budget.check("the cross-parameterization", [] { return std::string("before the certificates"); });
     for (int k = 0; k < 2; ++k) {
       cert_[k] = P_[k].certify();
       if (!cert_[k].valid)

@@ -204,6 +204,21 @@ struct Base_mesh {
     cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
     std::array<double, 3> bx;
     std::array<char, N> in_c{}, in_n{};
+    // Locations all on base edges or corners (a face of a patch without interior vertices, e.g. a whole base
+    // triangle): a triangle holding all of them comes first, as an unfolded pair of other triangles may hold
+    // them too, drawn as a different triangle.
+    bool on_boundary = true;
+    for (const Base_location* l : ls) on_boundary &= l->b[0] == 0 || l->b[1] == 0 || l->b[2] == 0;
+    if (on_boundary)
+      for (int c : cand) {
+        bool all_c = true;
+        for (std::size_t k = 0; k < N && all_c; ++k) all_c = convert(*ls[k], c, bx);
+        if (!all_c) continue;
+        for (std::size_t k = 0; k < N; ++k) frame_point(c, -1, *ls[k], pts[k]);
+        c_out = c;
+        n_out = -1;
+        return true;
+      }
     for (int c : cand) {
       for (std::size_t k = 0; k < N; ++k) in_c[k] = convert(*ls[k], c, bx);
       bool all_c = true;

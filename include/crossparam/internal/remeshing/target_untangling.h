@@ -58,8 +58,14 @@ public:
     std::vector<WF> folds;
     for (WF f : m.faces())
       if (flipped_on_target(f)) folds.push_back(f);
+    std::size_t done = 0;
     for (WF f : folds) {
       if (!flipped_on_target(f)) continue; // untangled with an earlier one
+      if (s.budget.stop("the remeshing's untangling", [&] {
+            return std::to_string(done) + " of " + std::to_string(folds.size()) + " folded faces";
+          }))
+        break; // best effort: every untangling so far is complete
+      ++done;
       int r = untangle_in_rings(f, moved);
       for (double size : {1.0, 1.5, 2.0})
         if (r <= 0) r = untangle_on_surface(f, size, moved);
