@@ -26,7 +26,7 @@ namespace {
 
 /// Vertex counts the feature file is checked against: enough for any index a short input can hold to be
 /// either valid or out of range.
-constexpr std::size_t fuzz_source_vertices = 1000, fuzz_target_vertices = 700;
+[[maybe_unused]] constexpr std::size_t fuzz_source_vertices = 1000, fuzz_target_vertices = 700;
 
 /// A file name for the messages (the readers name the file in every error).
 const std::string fuzz_path = "fuzz-input";
