@@ -16,6 +16,7 @@
 #include <CGAL/Polygon_mesh_processing/locate.h>
 
 #include <chrono>
+#include <functional>
 #include <set>
 
 namespace crossparam {
@@ -75,6 +76,9 @@ struct Cross_parameterization_access;
 ///     and every smoothing round; when it runs out it throws `Time_limit_error`, or with `best_effort`, during
 ///     the smoothing, keeps the best smoothing state reached and finishes (certificate included).
 ///
+/// `crossparam::parameters::progress` (a callable with a `const std::string&`, default none) receives one line
+/// after each step and each smoothing round.
+///
 /// Work bounds: the protrusion probe is one more map on copies; the layout traces one path per base edge;
 /// the initial parameterization solves one linear system per patch, at most 12 more with stretch reweighting;
 /// the smoothing makes at most `number_of_iterations` passes over the vertices.
@@ -106,6 +110,11 @@ public:
     const unsigned threads_requested = choose_parameter(get_parameter(np_source, internal_np::number_of_threads_t()), 0u);
     threads_ = internal::thread_count(threads_requested);
     const internal::Time_budget budget = internal::Time_budget::from(np_source);
+    const auto progress = choose_parameter(get_parameter(np_source, internal_np::progress_t()),
+                                           std::function<void(const std::string&)>());
+    auto say = [&progress](const std::string& line) {
+      if (progress) progress(line);
+    };
 
     // Contracts first, once (the protrusion probe below is built from checked copies and skips them).
     if (!internal::are_inputs_checked(np_source)) internal::check_layout_inputs(tm_s, tm_t, features, np_source, np_target);
@@ -135,6 +144,7 @@ public:
       features_.insert(features_.end(), tips.begin(), tips.end());
       stats_.protrusion_features = tips.size();
       stats_.seconds_probe = sec(t0, clock::now());
+      say("map: protrusion probe: " + std::to_string(tips.size()) + " feature pairs added");
     }
 
     budget.check("the cross-parameterization", [] { return std::string("before the patch layouts"); });
@@ -147,6 +157,7 @@ public:
       base_.build(layout_.base_triangles, features_.size(),
                   [&](int a, int b) { return lengths.at({std::min(a, b), std::max(a, b)}); });
     }
+    say("map: patch layouts: " + std::to_string(layout_.base_triangles.size()) + " base triangles");
     budget.check("the cross-parameterization", [] { return std::string("after the patch layouts"); });
     const auto t1 = clock::now();
 
@@ -187,6 +198,7 @@ public:
     const auto t2 = clock::now();
     locator_[1].build(P_[1]);
     stats_.distortion_initial = measure_distortion();
+    say("map: initial parameterization: E_ang " + std::to_string(stats_.distortion_initial.angular));
 
     // §4.2: local smoothing with the weights policy.
     const auto t3 = clock::now();
@@ -221,6 +233,7 @@ public:
                 stats_.smoothing_target.last_max_move = smooth_t.pass(stats_.smoothing_target);
             });
         done += passes;
+        say("map: smoothing: " + std::to_string(done) + " passes");
         const double moved = std::max(stats_.smoothing_source.last_max_move, stats_.smoothing_target.last_max_move);
         stats_.smoothing_source.iterations = stats_.smoothing_target.iterations = done;
         locator_[1].build(P_[1]);

@@ -71,7 +71,8 @@ CROSSPARAM_ADD_NAMED_PARAMETER(tolerance)
 /// \brief `double`, default 30: pseudo edge flips (§5.4) for faces whose normal deviates from the target's by
 /// more than this many degrees; 180 or more disables them.
 CROSSPARAM_ADD_NAMED_PARAMETER(normal_deviation)
-/// \brief A callable taking a `const std::string&`: one line of text per step (the library never prints).
+/// \brief A callable taking a `const std::string&`: one line of text per step of the map and of the remesher
+/// (the library never prints).
 CROSSPARAM_ADD_NAMED_PARAMETER(progress)
 /// \brief The weights policy of the adaptive smoothing (§5.2), a model of `RemeshingWeights` (concept in
 /// smoothing.h); default `Error_driven_weights`.

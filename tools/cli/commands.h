@@ -80,11 +80,6 @@ inline std::function<void(const std::string&)> progress_printer(const Options& o
   return [](const std::string& line) { std::cerr << line << "\n"; };
 }
 
-/// A progress line on stderr unless --quiet.
-inline void say(const Options& o, const std::string& line) {
-  if (!o.quiet) std::cerr << line << "\n";
-}
-
 /// Seconds left of --time-limit (infinite without one; 0 once run out).
 inline double remaining_seconds(const Options& o) {
   if (!std::isfinite(o.time_limit)) return HUGE_VAL;
@@ -118,7 +113,6 @@ inline int failed_verification(const Options& o, const std::string& message) {
 /// threads and iterations. Refines `s` and `t` in place, as the layout does.
 inline Map cross_parameterize(const Options& o, Surface_mesh& s, Surface_mesh& t, const Feature_correspondence& f) {
   namespace cp = crossparam::parameters;
-  say(o, "map: computing the patch layouts, the parameterizations and their smoothing");
   return Map(s, t, f,
              cp::apply_path_flips(
                  o.flips, cp::apply_smoothing(
@@ -126,7 +120,8 @@ inline Map cross_parameterize(const Options& o, Surface_mesh& s, Surface_mesh& t
                                                o.protrusion_features,
                                                cp::number_of_threads(
                                                    o.threads, cp::time_limit(remaining_seconds(o), cp::best_effort(o.best_effort,
-                                                       CGAL::parameters::number_of_iterations(o.iterations))))))),
+                                                       cp::progress(progress_printer(o),
+                                                           CGAL::parameters::number_of_iterations(o.iterations)))))))),
              CGAL::parameters::default_values());
 }
 
