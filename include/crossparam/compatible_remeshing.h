@@ -169,8 +169,10 @@ public:
     s.budget = internal::Time_budget::from(np);
     project(s, undo);                                // M_st, the source's connectivity on the target (§5.1)
     smooth_and_refine(s, weights, rule, max_rounds); // §5.2-5.3
-    if (max_dev < 180 && !s.budget.expired()) pseudo_flip(s, max_dev); // §5.4
-    if (!s.budget.expired()) untangle(s);            // folds left (additions to the paper)
+    // Out of time, each step left throws Time_limit_error, or with best effort is skipped.
+    auto skip = [&s](const char* stage) { return s.budget.stop(stage, [] { return std::string("not started"); }); };
+    if (max_dev < 180 && !skip("the remeshing's pseudo flips")) pseudo_flip(s, max_dev); // §5.4
+    if (!skip("the remeshing's untangling")) untangle(s); // folds left (additions to the paper)
     if (s.budget.expired()) say("remesh: time limit reached (best effort): the steps left are skipped");
     certify(s);                                      // the parameterization is still one-to-one
     finish(s, cp.statistics().seconds_total, t0);
@@ -310,7 +312,7 @@ private:
     internal::Target_untangler untangler(s);
     const State::Images before = s.images();
     record(s, untangler.run());
-    if (s.n_flipped > 0 && !s.budget.expired()) {
+    if (s.n_flipped > 0 && !s.budget.stop("the remeshing's fold repair", [] { return std::string("not started"); })) {
       const std::vector<char> hard = s.corners_of_folded_faces();
       s.restore(before);
       const auto tr = clock::now();

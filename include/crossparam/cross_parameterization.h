@@ -266,7 +266,7 @@ public:
       }
     }
     const auto t4 = clock::now();
-    budget.check("the cross-parameterization", [] { return std::string("before the certificates"); });
+    (void)budget.stop("the cross-parameterization", [] { return std::string("before the certificates"); });
     for (int k = 0; k < 2; ++k) {
       cert_[k] = P_[k].certify();
       if (!cert_[k].valid)
