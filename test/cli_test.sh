@@ -127,6 +127,93 @@ else
   bad "demo failed"
 fi
 
+# Honest exit codes and whole results.
+# expect_code NAME CODE WORDS -- ARGS...: exit code CODE and a stderr line containing WORDS.
+expect_code() {
+  local name=$1 code=$2 words=$3
+  shift 4
+  "$cli" "$@" >"$work/stdout" 2>"$work/stderr"
+  local rc=$?
+  if [ $rc -ne "$code" ]; then bad "$name: exit code $rc, expected $code: $(cat "$work/stderr")"; return; fi
+  if [ -n "$words" ] && ! grep -qi -- "$words" "$work/stderr"; then bad "$name: message lacks '$words': $(cat "$work/stderr")"; return; fi
+  ok
+}
+# A feature file with a UTF-8 byte order mark is read as OFF and OBJ files with one are.
+printf '\xEF\xBB\xBF0 0\n1 1\n2 2\n4 4\n' >"$work/fbom.txt"
+expect_code feature-bom 0 "" -- layout "$work/octa.off" "$work/octa.off" --features "$work/fbom.txt" -o "$work/bom" --quiet
+# A mesh with all its vertices at one point: the message names the file.
+awk 'NR>=3 && NR<=8 {print "1 1 1"; next} {print}' "$work/octa.off" >"$work/point.off"
+expect_error degenerate-box "point.off.*degenerate bounding box" -- layout "$work/point.off" "$work/octa.off" --features "$work/f4.txt" -o "$work/out"
+# morph refuses open and non-manifold meshes.
+expect_error morph-open "open" -- morph "$work/open.off" "$work/open.off" --frames 3 -o "$work/out"
+if [ -d "$shared/data/nasty" ]; then
+  expect_error morph-non-manifold "non-manifold" -- morph "$shared/data/nasty/cgal/cubes.off" "$shared/data/nasty/cgal/cubes.off" -o "$work/out"
+fi
+# An unusable -o is refused before any work, with exit code 1.
+touch "$work/a_file"
+expect_code output-is-file 1 "not a folder" -- remesh "$work/octa.off" "$work/octa.off" --features "$work/f4.txt" -o "$work/a_file"
+expect_code output-under-file 1 "cannot create" -- map "$work/octa.off" "$work/octa.off" --features "$work/f4.txt" -o "$work/a_file/sub"
+if [ "$(id -u)" -ne 0 ]; then
+  mkdir -p "$work/readonly" && chmod a-w "$work/readonly"
+  expect_code output-read-only 1 "cannot write" -- layout "$work/octa.off" "$work/octa.off" --features "$work/f4.txt" -o "$work/readonly"
+  chmod u+w "$work/readonly"
+fi
+expect_code time-limit-usage 2 "time-limit" -- remesh "$work/octa.off" "$work/octa.off" --features "$work/f4.txt" -o "$work/out" --time-limit -3
+# Small and degenerate but valid inputs through the whole pipeline: the octahedron and the tetrahedron with
+# 4 features, the octahedron against itself rotated by its features, a mesh with a zero-length edge.
+cat >"$work/tetra.off" <<'EOM'
+OFF
+4 4 0
+1 1 1
+1 -1 -1
+-1 1 -1
+-1 -1 1
+3 0 1 2
+3 0 3 1
+3 0 2 3
+3 1 3 2
+EOM
+printf '0 0\n1 1\n2 2\n3 3\n' >"$work/f4t.txt"
+printf '0 2\n2 1\n1 3\n4 4\n' >"$work/f4rot.txt"
+# The octahedron with its vertex 0 doubled: vertex 6 at the same point, on a zero-length edge 0-6.
+cat >"$work/zero_edge.off" <<'EOM'
+OFF
+7 10 0
+1 0 0
+-1 0 0
+0 1 0
+0 -1 0
+0 0 1
+0 0 -1
+1 0 0
+3 0 2 4
+3 2 1 4
+3 1 3 4
+3 3 6 4
+3 6 0 4
+3 2 0 5
+3 1 2 5
+3 3 1 5
+3 6 3 5
+3 0 6 5
+EOM
+for c in "octahedron octa.off octa.off f4.txt" "tetrahedron tetra.off tetra.off f4t.txt" \
+         "rotated-octahedron octa.off octa.off f4rot.txt" "zero-length-edge zero_edge.off octa.off f4.txt"; do
+  set -- $c
+  expect_code "remesh-$1" 0 "" -- remesh "$work/$2" "$work/$3" --features "$work/$4" -o "$work/small_$1" --quiet
+done
+# The demo's pair (written by the demo above) for the time limit and the verification's exit code.
+if [ -s "$work/demo/source.off" ]; then
+  d="$work/demo"
+  rm -rf "$work/limited"
+  expect_code time-limit 3 "time limit of 0.5 s reached during" -- remesh "$d/source.off" "$d/target.off" --features "$d/features.txt" -o "$work/limited" --time-limit 0.5 --quiet
+  [ -z "$(ls -A "$work/limited" 2>/dev/null)" ] || bad "time limit: files written: $(ls -A "$work/limited")"
+  [ "$(wc -l <"$work/stderr")" -eq 1 ] || bad "time limit: more than one line: $(cat "$work/stderr")"
+  # A tolerance that the remesher cannot meet before its vertex cap: the result is written, exit code 4.
+  expect_code failed-verification 4 "failed its independent verification" -- remesh "$d/source.off" "$d/target.off" --features "$d/features.txt" -o "$work/strict" --tolerance 0.001 --quiet
+  [ -s "$work/strict/report.json" ] && grep -q '"valid": false' "$work/strict/report.json" || bad "failed verification: no report of it"
+  expect_code failed-verification-best-effort 0 "best-effort" -- remesh "$d/source.off" "$d/target.off" --features "$d/features.txt" -o "$work/strict2" --tolerance 0.001 --best-effort --quiet
+fi
 # A real bench case.
 if [ -d "$shared/bench/wolf0_wolf2" ]; then
   b="$shared/bench/wolf0_wolf2"
@@ -163,6 +250,13 @@ if [ -d "$shared/bench/wolf0_wolf2" ]; then
 else
   echo "shared data not found at $shared: skipping the bench case"
 fi
+
+# Every report.json written is valid JSON (a strict parser: no NaN, no Infinity).
+for r in $(find "$work" -name report.json); do
+  python3 -c 'import json, sys
+def refuse(c): raise ValueError("non-finite number " + c)
+json.load(open(sys.argv[1]), parse_constant=refuse)' "$r" 2>"$work/json_err" && ok || bad "invalid JSON in $r: $(cat "$work/json_err")"
+done
 
 echo "cli: $passes passed, $fails failed"
 [ $fails -eq 0 ]

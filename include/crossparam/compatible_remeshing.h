@@ -121,7 +121,16 @@ struct Remeshing_statistics {
 /// Named parameters: `tolerance` (percent, default 0.5), `normal_deviation` (degrees, default 30),
 /// `max_rounds` (default 30), `remeshing_weights` (default `Error_driven_weights`), `refinement_rule` (default
 /// `Half_max_refinement`), `progress` (callback, one line per step), `undo_layout_splits` (default true),
-/// `number_of_threads` (default 0: one per hardware thread; the results do not depend on it).
+/// `number_of_threads` (default 0: one per hardware thread; the results do not depend on it), `time_limit`
+/// (seconds, default none) and `best_effort` (default false).
+///
+/// Work bounds and the time budget: at most `max_rounds` smoothing-and-refinement rounds (each 3 smoothing
+/// passes and at most one split per source edge and target vertex), refinement stopped at four times the
+/// source's vertex count; one pseudo-flip pass over the edges; one fold repair attempt per folded face; one
+/// local untangling per folded face, over rings of at most 8 faces around it. The `time_limit` is checked at
+/// every round and at every folded face; when it runs out the constructor throws `Time_limit_error`, or, with
+/// `best_effort`, ends the step under way with the state reached, skips the improving steps left (pseudo flips,
+/// fold repair, untangling) and certifies and returns that result.
 ///
 /// The steps, in order (the constructor runs them): the projection and its error (§5.1), adaptive smoothing
 /// and refinement (§5.2-5.3), pseudo edge flips (§5.4), the untangling on the target with the fold repair, the
@@ -138,7 +147,7 @@ public:
   /// \param cp a cross-parameterization of the source and the target
   /// \param np the named parameters of the remeshing
   /// \throws Input_error if the tolerance is not a positive number; Algorithm_error if the remeshed source's
-  ///         parameterization fails its certificate
+  ///         parameterization fails its certificate; Time_limit_error if the `time_limit` runs out (see above)
   template <typename NP = CGAL::parameters::Default_named_parameters>
   explicit Compatible_remesher(const Cross_param& cp, const NP& np = CGAL::parameters::default_values()) {
     using CGAL::parameters::choose_parameter;
@@ -157,10 +166,14 @@ public:
 
     // Working coordinates have a unit bounding-box diagonal: ε in percent is ε / 100 there.
     internal::Remesh_state s(internal::map_view(cp), stats_.tolerance / 100.0, threads);
+    s.budget = internal::Time_budget::from(np);
     project(s, undo);                                // M_st, the source's connectivity on the target (§5.1)
     smooth_and_refine(s, weights, rule, max_rounds); // §5.2-5.3
-    if (max_dev < 180) pseudo_flip(s, max_dev);      // §5.4
-    untangle(s);                                     // folds left (additions to the paper)
+    // Out of time, each step left throws Time_limit_error, or with best effort is skipped.
+    auto skip = [&s](const char* stage) { return s.budget.stop(stage, [] { return std::string("not started"); }); };
+    if (max_dev < 180 && !skip("the remeshing's pseudo flips")) pseudo_flip(s, max_dev); // §5.4
+    if (!skip("the remeshing's untangling")) untangle(s); // folds left (additions to the paper)
+    if (s.budget.expired()) say("remesh: time limit reached (best effort): the steps left are skipped");
     certify(s);                                      // the parameterization is still one-to-one
     finish(s, cp.statistics().seconds_total, t0);
   }
@@ -233,6 +246,11 @@ private:
     std::size_t best_flipped = s.n_flipped;
     unsigned stale = 0;
     for (unsigned round = 0; round < max_rounds && !s.converged(); ++round) {
+      if (s.budget.stop("the remeshing's smoothing and refinement", [&] {
+            return "round " + std::to_string(round + 1) + " of at most " + std::to_string(max_rounds) + ", " +
+                   std::to_string(s.mesh.m.number_of_vertices()) + " vertices";
+          }))
+        break; // best effort: keep the state reached
       const auto ts = clock::now();
       weights.update(s.mesh.m, s.edge_error);
       State::Locations before = s.locations();
@@ -294,7 +312,7 @@ private:
     internal::Target_untangler untangler(s);
     const State::Images before = s.images();
     record(s, untangler.run());
-    if (s.n_flipped > 0) {
+    if (s.n_flipped > 0 && !s.budget.stop("the remeshing's fold repair", [] { return std::string("not started"); })) {
       const std::vector<char> hard = s.corners_of_folded_faces();
       s.restore(before);
       const auto tr = clock::now();

@@ -11,10 +11,12 @@
 #include <crossparam/types.h>
 #include <crossparam/internal/base_locator.h>
 #include <crossparam/internal/parallel.h>
+#include <crossparam/internal/time_budget.h>
 
 #include <CGAL/Polygon_mesh_processing/locate.h>
 
 #include <chrono>
+#include <functional>
 #include <set>
 
 namespace crossparam {
@@ -68,7 +70,18 @@ struct Cross_parameterization_access;
 ///   - `crossparam::parameters::smoothing_weights` (a `SmoothingWeights` model, default `Mean_value_weights`);
 ///   - `crossparam::parameters::apply_smoothing` (bool, default true);
 ///   - `crossparam::parameters::number_of_threads` (unsigned, default 0: one per hardware thread): the two
-///     meshes are smoothed on a thread each, the distortion is measured on as many; the map does not depend on it.
+///     meshes are smoothed on a thread each, the distortion is measured on as many; the map does not depend on it;
+///   - `crossparam::parameters::time_limit` (double, seconds, default none) and `best_effort` (bool, default
+///     false): the constructor's time budget, checked between its steps, at every stretch-reweighting round
+///     and every smoothing round; when it runs out it throws `Time_limit_error`, or with `best_effort`, during
+///     the smoothing, keeps the best smoothing state reached and finishes (certificate included).
+///
+/// `crossparam::parameters::progress` (a callable with a `const std::string&`, default none) receives one line
+/// after each step and each smoothing round.
+///
+/// Work bounds: the protrusion probe is one more map on copies; the layout traces one path per base edge;
+/// the initial parameterization solves one linear system per patch, at most 12 more with stretch reweighting;
+/// the smoothing makes at most `number_of_iterations` passes over the vertices.
 template <class SourceMesh, class TargetMesh>
 class Cross_parameterization {
 public:
@@ -96,6 +109,12 @@ public:
     auto weights = choose_parameter(get_parameter(np_source, internal_np::smoothing_weights_t()), Mean_value_weights());
     const unsigned threads_requested = choose_parameter(get_parameter(np_source, internal_np::number_of_threads_t()), 0u);
     threads_ = internal::thread_count(threads_requested);
+    const internal::Time_budget budget = internal::Time_budget::from(np_source);
+    const auto progress = choose_parameter(get_parameter(np_source, internal_np::progress_t()),
+                                           std::function<void(const std::string&)>());
+    auto say = [&progress](const std::string& line) {
+      if (progress) progress(line);
+    };
 
     // Contracts first, once (the protrusion probe below is built from checked copies and skips them).
     if (!internal::are_inputs_checked(np_source)) internal::check_layout_inputs(tm_s, tm_t, features, np_source, np_target);
@@ -119,13 +138,16 @@ public:
           cs, ct, features,
           internal::inputs_checked(protrusion_features(false, smoothing_weights(weights, smoothing_tolerance(so.tolerance,
               apply_smoothing(smooth, apply_path_flips(flips, consistent_paths(consistent,
-                  number_of_threads(threads_requested, number_of_iterations(so.max_iterations))))))))));
+                  number_of_threads(threads_requested, time_limit(budget.remaining(), best_effort(budget.best_effort(),
+                      number_of_iterations(so.max_iterations))))))))))));
       const Feature_correspondence tips = probe.protrusion_tips();
       features_.insert(features_.end(), tips.begin(), tips.end());
       stats_.protrusion_features = tips.size();
       stats_.seconds_probe = sec(t0, clock::now());
+      say("map: protrusion probe: " + std::to_string(tips.size()) + " feature pairs added");
     }
 
+    budget.check("the cross-parameterization", [] { return std::string("before the patch layouts"); });
     std::array<std::vector<int>, 2> work_tri;
     layout_ = internal::compute_patch_layouts_impl(tm_s, tm_t, features_, np_source, np_target, B_, true, &work_tri,
                                                    &link_s_, &link_t_);
@@ -135,6 +157,8 @@ public:
       base_.build(layout_.base_triangles, features_.size(),
                   [&](int a, int b) { return lengths.at({std::min(a, b), std::max(a, b)}); });
     }
+    say("map: patch layouts: " + std::to_string(layout_.base_triangles.size()) + " base triangles");
+    budget.check("the cross-parameterization", [] { return std::string("after the patch layouts"); });
     const auto t1 = clock::now();
 
     // §4.1: mean-value parameterization of every patch onto its base triangle.
@@ -150,6 +174,10 @@ public:
       // (Yoshizawa et al. 2004) spreads it out while the weights stay positive, so the map stays one-to-one.
       std::vector<double> factor(B_.side[k].m.number_of_vertices(), 1.0);
       for (unsigned round = 0; !c.valid && round < max_stretch_rounds; ++round) {
+        budget.check("the initial parameterization", [&] {
+          return std::string(k ? "target" : "source") + ", stretch reweighting round " + std::to_string(round + 1) +
+                 " of at most " + std::to_string(max_stretch_rounds);
+        });
         *fallback[k] = true;
         std::vector<double> sigma = P_[k].vertex_stretch();
         double mean = 0;
@@ -170,6 +198,7 @@ public:
     const auto t2 = clock::now();
     locator_[1].build(P_[1]);
     stats_.distortion_initial = measure_distortion();
+    say("map: initial parameterization: E_ang " + std::to_string(stats_.distortion_initial.angular));
 
     // §4.2: local smoothing with the weights policy.
     const auto t3 = clock::now();
@@ -187,6 +216,10 @@ public:
       unsigned bad = 0, done = 0;
       const unsigned per_round = 5, patience = 2;
       while (done < so.max_iterations) {
+        if (budget.stop("the map's smoothing", [&] {
+              return std::to_string(done) + " of at most " + std::to_string(so.max_iterations) + " passes";
+            }))
+          break; // best effort: keep the best state so far
         // The two meshes' passes are independent (each moves only its own vertices): one thread each.
         const unsigned passes = std::min(per_round, so.max_iterations - done);
         internal::parallel_invoke(
@@ -200,6 +233,7 @@ public:
                 stats_.smoothing_target.last_max_move = smooth_t.pass(stats_.smoothing_target);
             });
         done += passes;
+        say("map: smoothing: " + std::to_string(done) + " passes");
         const double moved = std::max(stats_.smoothing_source.last_max_move, stats_.smoothing_target.last_max_move);
         stats_.smoothing_source.iterations = stats_.smoothing_target.iterations = done;
         locator_[1].build(P_[1]);
@@ -232,6 +266,7 @@ public:
       }
     }
     const auto t4 = clock::now();
+    (void)budget.stop("the cross-parameterization", [] { return std::string("before the certificates"); });
     for (int k = 0; k < 2; ++k) {
       cert_[k] = P_[k].certify();
       if (!cert_[k].valid)

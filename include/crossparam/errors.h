@@ -53,6 +53,31 @@ public:
   using Error::Error;
 };
 
+/// The time budget of a computation (named parameter `time_limit`) ran out. Not a defect of the inputs nor a
+/// bug: the computation was stopped between two of its steps, or inside a long loop, at a point where it holds
+/// no partial result. what() is "time limit of S s reached during <stage> (<what was reached>)".
+class Time_limit_error : public Error {
+public:
+  Time_limit_error(const std::string& stage, const std::string& reached, double seconds)
+      : Error("time limit of " + format_seconds(seconds) + " s reached during " + stage +
+              (reached.empty() ? std::string() : " (" + reached + ")")),
+        stage_(stage), reached_(reached) {}
+
+  /// The step that was running, e.g. "the remeshing's untangling".
+  const std::string& stage() const { return stage_; }
+  /// What that step had done when it stopped, e.g. "round 3 of at most 30"; may be empty.
+  const std::string& reached() const { return reached_; }
+
+private:
+  static std::string format_seconds(double s) {
+    std::string t = std::to_string(s);
+    while (t.size() > 1 && t.back() == '0') t.pop_back();
+    if (!t.empty() && t.back() == '.') t.pop_back();
+    return t;
+  }
+  std::string stage_, reached_;
+};
+
 } // namespace crossparam
 
 #endif // CROSSPARAM_ERRORS_H

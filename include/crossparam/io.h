@@ -54,8 +54,8 @@ Mesh_check_report read_triangle_mesh(const std::string& path, TriangleMesh& tm) 
 // ---------------------------------------------------------------------------------------------- features
 
 /// Reads feature pairs: one "source_vertex target_vertex" pair (0-based) per line, '#' starts a comment, blank
-/// lines are ignored; the k-th pair is feature k. Validated as by validate_feature_pairs() against the vertex
-/// counts of the two meshes.
+/// lines are ignored, a UTF-8 byte order mark is skipped; the k-th pair is feature k. Validated as by
+/// validate_feature_pairs() against the vertex counts of the two meshes.
 /// \throws Feature_error("<path>: [line N: ]<problem>") for a missing or unreadable file, a malformed line or an
 ///         invalid correspondence.
 inline Feature_correspondence read_feature_pairs(const std::string& path, std::size_t n_source_vertices,
@@ -63,7 +63,9 @@ inline Feature_correspondence read_feature_pairs(const std::string& path, std::s
   namespace sio = internal::soup_io;
   const std::string bytes = sio::read_whole_file<Feature_error>(path);
   const sio::Reporter<Feature_error> rep{path};
-  sio::Line_cursor lc{bytes};
+  std::string_view text(bytes);
+  if (sio::starts_with(text, "\xEF\xBB\xBF")) text.remove_prefix(3); // UTF-8 byte order mark, as OFF and OBJ
+  sio::Line_cursor lc{text};
   std::string_view line;
   std::vector<std::string_view> toks;
   Feature_correspondence fc;

@@ -29,6 +29,9 @@ struct refinement_rule_t {};    ///< a model of RefinementRule (default Half_max
 struct max_rounds_t {};         ///< unsigned (default 30)
 struct undo_layout_splits_t {}; ///< bool (default true)
 struct number_of_threads_t {};  ///< unsigned (default 0: one per hardware thread)
+// Every computation
+struct time_limit_t {};         ///< double, seconds (default: none)
+struct best_effort_t {};        ///< bool (default false)
 } // namespace internal_np
 
 namespace parameters {
@@ -68,7 +71,8 @@ CROSSPARAM_ADD_NAMED_PARAMETER(tolerance)
 /// \brief `double`, default 30: pseudo edge flips (§5.4) for faces whose normal deviates from the target's by
 /// more than this many degrees; 180 or more disables them.
 CROSSPARAM_ADD_NAMED_PARAMETER(normal_deviation)
-/// \brief A callable taking a `const std::string&`: one line of text per step (the library never prints).
+/// \brief A callable taking a `const std::string&`: one line of text per step of the map and of the remesher
+/// (the library never prints).
 CROSSPARAM_ADD_NAMED_PARAMETER(progress)
 /// \brief The weights policy of the adaptive smoothing (§5.2), a model of `RemeshingWeights` (concept in
 /// smoothing.h); default `Error_driven_weights`.
@@ -84,6 +88,19 @@ CROSSPARAM_ADD_NAMED_PARAMETER(undo_layout_splits)
 /// distortion measurement, and for the remesher's error measurement. The results do not depend on it: each mesh
 /// is smoothed on its own, every measured element is computed on its own, sums and maxima in a fixed order.
 CROSSPARAM_ADD_NAMED_PARAMETER(number_of_threads)
+
+/// \brief `double`, seconds, default none (an infinite budget): the time budget of the Cross_parameterization
+/// constructor, or of the Compatible_remesher constructor, from its start. It is checked between the steps and
+/// inside every long loop; when it runs out the computation throws Time_limit_error naming the step and what it
+/// had reached (or, with `best_effort`, stops improving; see there). Not a hard real-time bound: the check
+/// comes at the end of the unit of work under way (one smoothing pass, one refinement split, one fold).
+CROSSPARAM_ADD_NAMED_PARAMETER(time_limit)
+/// \brief `bool`, default `false`: when the `time_limit` runs out during a step that only improves a result
+/// that is already valid (the map's smoothing; the remesher's smoothing-and-refinement rounds, pseudo flips,
+/// fold repair and untangling), stop that step, keep the result reached (certified as always) and go on to
+/// the end of the computation, skipping the remaining improving steps. A step that must finish (the layout,
+/// the initial parameterization, the certificates) still throws Time_limit_error.
+CROSSPARAM_ADD_NAMED_PARAMETER(best_effort)
 
 #undef CROSSPARAM_ADD_NAMED_PARAMETER
 

@@ -6,6 +6,7 @@
 #ifndef CROSSPARAM_REMESHING_VERIFICATION_H
 #define CROSSPARAM_REMESHING_VERIFICATION_H
 
+#include <crossparam/scaling.h>
 #include <crossparam/types.h>
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
@@ -75,6 +76,8 @@ bool are_compatible(const MeshA& a, const MeshB& b) {
 /// \brief Checks the two outputs of a compatible remeshing against the inputs. `tolerance` is the promised
 /// bound in percent of the target's diagonal; `source_bound` the bound for the source side (default 1e-6 %).
 /// The Hausdorff distances are computed with CGAL's bounded-error algorithm to 1% of the tolerance.
+/// Scale-free: the meshes are checked as copies scaled by the power of two that brings the largest bounding-box
+/// diagonal into [1, 2) (exact), and every distance is reported in percent of a diagonal.
 ///
 /// Kernel: that of `Mesh`'s points (`CGAL::Kernel_traits` of its `vertex_point` value type), used by the AABB
 /// tree, the Hausdorff distances and the normals; no `geom_traits` named parameter is taken.
@@ -83,6 +86,11 @@ Remeshing_verification verify_compatible_remeshing(const Mesh& src, const Mesh& 
                                                    const Mesh& out_target, double tolerance,
                                                    double source_bound = 1e-6) {
   namespace PMP = CGAL::Polygon_mesh_processing;
+  if (const int k = unit_scale_exponent<Mesh>({&src, &tgt, &out_source, &out_target}); k != 0) {
+    Mesh s = src, t = tgt, os = out_source, ot = out_target;
+    for (Mesh* m : {&s, &t, &os, &ot}) scale_by_power_of_two(*m, k);
+    return verify_compatible_remeshing(s, t, os, ot, tolerance, source_bound);
+  }
   Remeshing_verification r;
   r.compatible = are_compatible(out_source, out_target);
   const double dt = internal::bbox_diagonal(tgt), ds = internal::bbox_diagonal(src);

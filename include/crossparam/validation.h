@@ -592,9 +592,9 @@ bool are_inputs_checked(const NP& np) {
 /// \brief Checks that the points of `vpm` span a bounding box with a positive, finite diagonal (the working
 /// copies of the meshes are scaled by it).
 /// \pre `tm` has passed check_triangle_mesh() (the points of its internal map are finite).
-/// \throws Input_error("mesh has a degenerate bounding box").
+/// \throws Input_error("<name>: mesh has a degenerate bounding box").
 template <class TriangleMesh, class VertexPointMap>
-void check_bounding_box(const TriangleMesh& tm, VertexPointMap vpm) {
+void check_bounding_box(const TriangleMesh& tm, VertexPointMap vpm, const std::string& name = "mesh") {
   double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
   for (auto v : vertices(tm)) {
     const auto& p = get(vpm, v);
@@ -606,7 +606,8 @@ void check_bounding_box(const TriangleMesh& tm, VertexPointMap vpm) {
   }
   double diag = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                           (hi[2] - lo[2]) * (hi[2] - lo[2]));
-  if (!(diag > 0) || !std::isfinite(diag)) throw Input_error("mesh has a degenerate bounding box");
+  if (!(diag > 0) || !std::isfinite(diag))
+    throw Input_error(name + ": the mesh has a degenerate bounding box (all its vertices are at one point)");
 }
 
 /// \brief The input checks of compute_patch_layouts, the Cross_parameterization constructor and
@@ -629,9 +630,9 @@ void check_layout_inputs(const SourceMesh& tm_s, const TargetMesh& tm_t, const F
   const std::size_t nt = std::size_t(std::distance(vertices(tm_t).begin(), vertices(tm_t).end()));
   validate_feature_pairs(features, ns, nt, "feature correspondence");
   check_bounding_box(tm_s, choose_parameter(get_parameter(np_source, CGAL::internal_np::vertex_point),
-                                            get_const_property_map(CGAL::vertex_point, tm_s)));
+                                            get_const_property_map(CGAL::vertex_point, tm_s)), "source mesh");
   check_bounding_box(tm_t, choose_parameter(get_parameter(np_target, CGAL::internal_np::vertex_point),
-                                            get_const_property_map(CGAL::vertex_point, tm_t)));
+                                            get_const_property_map(CGAL::vertex_point, tm_t)), "target mesh");
 }
 
 } // namespace internal

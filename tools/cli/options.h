@@ -7,6 +7,8 @@
 #include "render.h"
 
 #include <array>
+#include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <sstream>
 #include <stdexcept>
@@ -27,6 +29,16 @@ inline const char* const usage_text =
     "  remesh SOURCE TARGET --features FILE -o DIR [--tolerance PCT]\n"
     "      compatible remeshing (paper section 5): two meshes with one connectivity, one reproducing SOURCE,\n"
     "      the other approximating TARGET\n"
+    "  remesh M0 M1 M2 ... --features FILE -o DIR [--tolerance PCT] [--source-mesh K|finest]\n"
+    "      one connectivity for three or more meshes (paper section 2.3): compatible_0.off ... one per mesh,\n"
+    "      in command-line order; FILE has one column per mesh\n"
+    "  blend M0 M1 ... -o DIR (--weights W0,W1,... | --weight-file FILE | --region K,R[,F] --features FILE)\n"
+    "      blend of compatible meshes: affine weights, one row of weights per vertex, or (two meshes) M1\n"
+    "      within geodesic distance R of feature K and M0 elsewhere, with a falloff F (R, F in units of the\n"
+    "      square root of M0's area; F defaults to R/2)\n"
+    "  transfer SOURCE.obj TARGET --features FILE -o DIR [--texture IMG] [--attributes FILE]\n"
+    "      the source's texture coordinates onto the target's shape (target_textured.obj, .mtl, the image),\n"
+    "      and per-vertex data of the source (one row per vertex) onto the target's vertices\n"
     "  morph A B --frames N -o DIR\n"
     "      N meshes interpolating between two compatible meshes (e.g. the outputs of remesh)\n"
     "  demo -o DIR\n"
@@ -51,11 +63,22 @@ inline const char* const usage_text =
     "  --png             also render pictures of the results (needs POV-Ray: apt-get install povray)\n"
     "  --up X,Y,Z        the models' up direction in the pictures (default 0,0,1)\n"
     "  --view X,Y,Z      direction from the model towards the camera (default 1,-1.6,0.6)\n"
+    "  --time-limit S    stop after S seconds (map, remesh, demo: the computation's budget) with exit code 3\n"
+    "  --best-effort     at the time limit, keep and write the best valid result reached instead; write a\n"
+    "                    result that fails its independent verification with exit code 0 instead of 4\n"
     "  --quiet           print nothing but errors\n"
     "  -h, --help        this text\n"
     "\n"
     "meshes: OFF, OBJ, PLY or STL; closed, manifold, one component, both of one genus (genus > 0: about four\n"
-    "features around each handle, or the layout stops naming the patch that needs more).\n";
+    "features around each handle, or the layout stops naming the patch that needs more).\n"
+    "\n"
+    "exit codes: 0 a valid result, 1 bad input (or an output that cannot be written), 2 bad usage,\n"
+    "3 internal error or time limit, 4 a result written that failed its independent verification.\n";
+
+/// The exit codes: a valid result, bad input (or an output that cannot be written), bad usage, an internal
+/// error or the time limit, a result written that failed its independent verification.
+constexpr int exit_valid = 0, exit_bad_input = 1, exit_bad_usage = 2, exit_internal_error = 3,
+              exit_failed_verification = 4;
 
 /// Bad usage: exit code 2. An empty message asks for the usage text (exit code 0).
 struct Usage_error : std::runtime_error {
@@ -68,6 +91,7 @@ struct Options {
   std::vector<std::string> positional;
   std::string features;
   std::string output;
+  std::string staging; ///< the folder the files are written into while a result is being written (Output_folder)
   bool flips = true;
   bool quiet = false;
   bool png = false;
@@ -77,7 +101,16 @@ struct Options {
   double tolerance = 0.5;
   unsigned threads = 0;
   unsigned frames = 9;
+  /// The computation runs on the inputs multiplied by 2^units_exponent (exact; see normalize_units() in
+  /// outputs.h); every coordinate written is divided back.
+  int units_exponent = 0;
+  double time_limit = HUGE_VAL; ///< seconds; none by default
+  std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now(); ///< when the run started
+  bool best_effort = false;
   Render_options render;
+  // N-way remeshing, blends and transfers (cli/multi.h)
+  std::size_t source_mesh = 0; ///< --source-mesh; crossparam::finest_mesh for "finest"
+  std::string weights, weight_file, region, texture, attributes;
 };
 
 /// Largest accepted `--iterations`, `--threads` and `--frames`: far above any useful value, low enough that a
@@ -111,6 +144,18 @@ inline double tolerance_percent(const std::string& v) {
   return t;
 }
 
+/// Largest accepted `--time-limit`: a year, far above any run, low enough to stay a finite number of seconds.
+constexpr double max_time_limit_seconds = 366.0 * 24 * 3600;
+
+/// A number of seconds in (0, max_time_limit_seconds], or a usage error naming `--time-limit`.
+inline double time_limit_seconds(const std::string& v) {
+  char* end = nullptr;
+  const double t = std::strtod(v.c_str(), &end);
+  if (v.empty() || *end != '\0' || !(t > 0) || !(t <= max_time_limit_seconds))
+    throw Usage_error("--time-limit needs a positive number of seconds (at most a year)");
+  return t;
+}
+
 /// The command line: argv[1] is the command, then options and positional arguments in any order.
 inline Options parse(int argc, char** argv) {
   Options o;
@@ -136,6 +181,17 @@ inline Options parse(int argc, char** argv) {
     else if (a == "--threads") o.threads = whole_number(value(), 0, max_threads, "--threads needs a whole number up to 1024");
     else if (a == "--tolerance") o.tolerance = tolerance_percent(value());
     else if (a == "--frames") o.frames = whole_number(value(), 2, max_frames, "--frames needs a whole number from 2 to 10000");
+    else if (a == "--time-limit") o.time_limit = time_limit_seconds(value());
+    else if (a == "--best-effort") o.best_effort = true;
+    else if (a == "--weights") o.weights = value();
+    else if (a == "--weight-file") o.weight_file = value();
+    else if (a == "--region") o.region = value();
+    else if (a == "--texture") o.texture = value();
+    else if (a == "--attributes") o.attributes = value();
+    else if (a == "--source-mesh") {
+      const std::string v = value();
+      o.source_mesh = v == "finest" ? std::size_t(-1) : whole_number(v, 0, max_frames, "--source-mesh needs a mesh index or 'finest'");
+    }
     else if (a == "--quiet" || a == "-q") o.quiet = true;
     else if (a == "-h" || a == "--help") throw Usage_error("");
     else if (!a.empty() && a[0] == '-') throw Usage_error("unknown option " + a);

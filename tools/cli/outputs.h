@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // What each command writes: the output files (meshes, patch ids, vertex maps, the checkerboard texture, the
-// morph frames), report.json, the pictures of --png and the summary lines on stdout. Every file is written
-// atomically, after everything it holds has been computed.
+// morph frames), report.json, the pictures of --png and the summary lines on stdout. The files of one result
+// are written into a staging folder (Output_folder) and moved into the output folder together at the end.
 #ifndef CROSSPARAM_CLI_OUTPUTS_H
 #define CROSSPARAM_CLI_OUTPUTS_H
 
@@ -16,6 +16,7 @@
 #include <crossparam/morph.h>
 #include <crossparam/patch_layout.h>
 #include <crossparam/remeshing_verification.h>
+#include <crossparam/scaling.h>
 
 #include <algorithm>
 #include <array>
@@ -43,8 +44,12 @@ struct Timer {
   double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); }
 };
 
-/// The path of file `name` in the output directory.
-inline std::string output_path(const Options& o, const std::string& name) { return (fs::path(o.output) / name).string(); }
+/// The folder the files of `o` are written into: the staging folder while a result is being written (see
+/// Output_folder), else the output folder.
+inline const std::string& write_folder(const Options& o) { return o.staging.empty() ? o.output : o.staging; }
+
+/// The path of file `name` in the folder the files are written into.
+inline std::string output_path(const Options& o, const std::string& name) { return (fs::path(write_folder(o)) / name).string(); }
 
 /// A distinct, stable colour per id (golden-ratio hue steps).
 inline std::array<unsigned char, 3> color_of(std::size_t id) {
@@ -69,6 +74,30 @@ inline std::array<unsigned char, 3> error_color(double e, double tolerance) {
   auto c = [](double a, double b, double t) { return static_cast<unsigned char>(std::lround(a + (b - a) * t)); };
   if (x < 0.5) return {c(40, 255, 2 * x), c(80, 255, 2 * x), c(220, 255, 2 * x)};
   return {c(255, 220, 2 * x - 1), c(255, 40, 2 * x - 1), c(255, 30, 2 * x - 1)};
+}
+
+/// `points` in the user's units (see Options::units_exponent): exact, a power-of-two factor.
+inline std::vector<std::array<double, 3>> in_user_units(const Options& o, std::vector<std::array<double, 3>> points) {
+  return scaled_by_power_of_two(std::move(points), -o.units_exponent);
+}
+inline Point_3 in_user_units(const Options& o, const Point_3& p) {
+  const int k = -o.units_exponent;
+  return Point_3(std::ldexp(p.x(), k), std::ldexp(p.y(), k), std::ldexp(p.z(), k));
+}
+
+/// Inputs whose larger bounding-box diagonal lies in [2^-units_band, 2^(units_band + 1)) are computed in their
+/// own units; others are first scaled by a power of two to a diagonal in [1, 2). A pair at any scale the
+/// readers accept (up to 1e100, down to where the mesh checks still see distinct points) is computed
+/// at a moderate scale, far from overflow and underflow, and pairs that differ by a scale outside the band give
+/// the same results up to the rounding of their mantissas.
+constexpr int units_band = 20;
+
+/// Scales `s` and `t` as units_band says and records the exponent in `o.units_exponent` (see there).
+inline void normalize_units(Options& o, Surface_mesh& s, Surface_mesh& t) {
+  const int k = unit_scale_exponent<Surface_mesh>({&s, &t});
+  o.units_exponent = std::abs(k) <= units_band ? 0 : k;
+  scale_by_power_of_two(s, o.units_exponent);
+  scale_by_power_of_two(t, o.units_exponent);
 }
 
 /// The points and triangles of a triangle mesh, in vertex index order.
@@ -102,7 +131,7 @@ void write_report(const Options& o, const Members& members) {
 /// layout's own.
 inline void write_layout(const Options& o, const Surface_mesh& s, const Surface_mesh& t, const Patch_layout& L,
                          const std::map<std::string, double>& extra_times) {
-  fs::create_directories(o.output);
+  fs::create_directories(write_folder(o));
   std::vector<std::array<double, 3>> pts;
   std::vector<std::array<std::size_t, 3>> tris;
   const Surface_mesh* meshes[2] = {&s, &t};
@@ -111,6 +140,7 @@ inline void write_layout(const Options& o, const Surface_mesh& s, const Surface_
   for (int k = 0; k < 2; ++k) {
     const std::string name = names[k];
     soup_of(*meshes[k], pts, tris);
+    pts = in_user_units(o, std::move(pts));
     write_off(output_path(o, name + "_refined.off"), pts, tris);
     write_file_atomically(output_path(o, name + "_patches.txt"), [&](std::ostream& os) {
       for (int id : layouts[k]->face_triangle) os << id << "\n";
@@ -194,7 +224,10 @@ inline void write_checkerboard(const Options& o, const Map& cp) {
       os.precision(17);
       os << "# crossparam: " << name << " textured from the base domain\n";
       os << "mtllib checker.mtl\nusemtl checker\n";
-      for (const Point_3& p : mesh.points) os << "v " << p.x() << " " << p.y() << " " << p.z() << "\n";
+      for (const Point_3& q : mesh.points) {
+        const Point_3 p = in_user_units(o, q);
+        os << "v " << p.x() << " " << p.y() << " " << p.z() << "\n";
+      }
       for (std::size_t f = 0, k = 0; f < mesh.faces.size(); ++f, k += 3) {
         for (const auto& t : atlas[f]) os << "vt " << t[0] << " " << t[1] << "\n";
         const auto& vs = mesh.faces[f];
@@ -203,7 +236,10 @@ inline void write_checkerboard(const Options& o, const Map& cp) {
     });
     if (o.png) {
       Render_mesh picture;
-      for (const Point_3& p : mesh.points) picture.points.push_back({p.x(), p.y(), p.z()});
+      for (const Point_3& q : mesh.points) {
+        const Point_3 p = in_user_units(o, q);
+        picture.points.push_back({p.x(), p.y(), p.z()});
+      }
       picture.triangles = mesh.faces;
       for (const auto& corners : atlas) {
         double cu = 0, cv = 0;
@@ -228,7 +264,7 @@ inline void write_protrusion_pairs(Json_writer& j, const Map& cp) {
 /// Writes the outputs of `map` (and the demo's map): the vertex maps both ways, the checkerboard and
 /// report.json. `read_s` is the time to read (or generate) the inputs.
 inline void write_map(const Options& o, const Map& cp, double read_s) {
-  fs::create_directories(o.output);
+  fs::create_directories(write_folder(o));
   auto write_vertex_map = [&](const std::string& name, Mesh_side side) {
     write_file_atomically(output_path(o, name), [&](std::ostream& os) {
       os.precision(17);
@@ -322,22 +358,23 @@ inline void print_remesh_summary(const Options& o, const Remeshing_statistics& S
 /// Writes the outputs of `remesh` (and the demo's remeshing) and report.json, with the independent
 /// verification of the outputs against the inputs as they were before the map refined them (`source0`,
 /// `target0`). `read_s` is the time to read (or generate) the inputs.
-inline void write_remesh(const Options& o, const Map& cp, const Remesher& r, const Surface_mesh& source0,
-                         const Surface_mesh& target0, double read_s) {
+inline Remeshing_verification write_remesh(const Options& o, const Map& cp, const Remesher& r,
+                                           const Surface_mesh& source0, const Surface_mesh& target0, double read_s) {
   Timer tv;
   Surface_mesh out_source, out_target;
   r.copy_to(Mesh_side::source, out_source);
   r.copy_to(Mesh_side::target, out_target);
   const Remeshing_verification check = verify_compatible_remeshing(source0, target0, out_source, out_target, o.tolerance);
   const double verify_s = tv.seconds();
-  if (!check.valid) std::cerr << "crossparam: warning: the remeshing misses its tolerance: " << check.message << "\n";
-  fs::create_directories(o.output);
-  write_off(output_path(o, "source_compatible.off"), r.source_points(), r.faces());
-  write_off(output_path(o, "target_compatible.off"), r.target_points(), r.faces());
+  fs::create_directories(write_folder(o));
+  const std::vector<std::array<double, 3>> source_points = in_user_units(o, r.source_points());
+  const std::vector<std::array<double, 3>> target_points = in_user_units(o, r.target_points());
+  write_off(output_path(o, "source_compatible.off"), source_points, r.faces());
+  write_off(output_path(o, "target_compatible.off"), target_points, r.faces());
   std::vector<std::array<unsigned char, 3>> colors;
   for (double e : r.vertex_error()) colors.push_back(error_color(e, o.tolerance));
-  write_ply_vertex_colored(output_path(o, "target_error.ply"), r.target_points(), r.faces(), colors);
-  if (o.png) render_png(Render_mesh{r.target_points(), r.faces(), {}, colors}, output_path(o, "target_error.png"), o.render);
+  write_ply_vertex_colored(output_path(o, "target_error.ply"), target_points, r.faces(), colors);
+  if (o.png) render_png(Render_mesh{target_points, r.faces(), {}, colors}, output_path(o, "target_error.png"), o.render);
   const Remeshing_statistics& S = r.statistics();
   const Cross_parameterization_statistics& C = cp.statistics();
   const double added = 100.0 * (double(S.output_vertices) - double(S.source_vertices)) / double(S.source_vertices);
@@ -379,6 +416,7 @@ inline void write_remesh(const Options& o, const Map& cp, const Remesher& r, con
   });
   print_remesh_summary(o, S, check, added, C.seconds_total + S.seconds_total, verify_s);
   if (!o.quiet) std::cout << "wrote " << o.output << "/\n";
+  return check;
 }
 
 // ---- morph ----
@@ -391,7 +429,7 @@ constexpr double strip_pitch = 1.1;
 
 /// Writes frame_000.off ... between two compatible soups; with --png a picture per frame and morph_strip.png.
 inline void write_morph(const Options& o, const Polygon_soup& a, const Polygon_soup& b) {
-  fs::create_directories(o.output);
+  fs::create_directories(write_folder(o));
   std::vector<std::array<std::size_t, 3>> tris;
   for (const auto& p : a.polygons) tris.push_back({p[0], p[1], p[2]});
   // One frame for every picture: the union of both ends' boxes keeps the sequence steady.

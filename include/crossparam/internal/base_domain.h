@@ -232,10 +232,34 @@ struct Base_mesh {
         if (!ok) continue;
         c_out = c;
         n_out = n;
+        if constexpr (N == 3) prefer_holding_triangle(ls, cand, c_out, n_out, pts);
         return true;
       }
     }
     return false;
+  }
+
+  /// A triangle of three locations all on base edges or corners (a face of a patch without interior vertices,
+  /// e.g. a whole base triangle) may fit an unfolded pair of base triangles other than the one that holds it,
+  /// drawn there as a different triangle. If a base triangle among `cand` holds all three and the triangle's
+  /// orientation there differs from that in the frame (c, n), that triangle is the frame.
+  void prefer_holding_triangle(const std::array<const Base_location*, 3>& ls, const std::vector<int>& cand, int& c,
+                               int& n, std::array<Point_2, 3>& pts) const {
+    for (const Base_location* l : ls)
+      if (l->b[0] != 0 && l->b[1] != 0 && l->b[2] != 0) return;
+    std::array<double, 3> bx;
+    for (int h : cand) {
+      bool all = true;
+      for (std::size_t k = 0; k < 3 && all; ++k) all = convert(*ls[k], h, bx);
+      if (!all) continue;
+      std::array<Point_2, 3> in_h;
+      for (std::size_t k = 0; k < 3; ++k) frame_point(h, -1, *ls[k], in_h[k]);
+      if (CGAL::orientation(in_h[0], in_h[1], in_h[2]) == CGAL::orientation(pts[0], pts[1], pts[2])) return;
+      c = h;
+      n = -1;
+      pts = in_h;
+      return;
+    }
   }
 
   /// The point with barycentrics `b` of the straight triangle spanned by three locations in their canonical

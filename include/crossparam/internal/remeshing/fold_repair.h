@@ -172,7 +172,7 @@ inline Fold_repair_result repair_folds(Remesh_state& s, const std::vector<char>*
   s.repairing = true;
   constexpr int budget = 200, max_passes = 6;
   int idle = 0;
-  for (int pass = 0; pass < max_passes && idle < 2; ++pass) {
+  for (int pass = 0; pass < max_passes && idle < 2 && !s.budget.expired(); ++pass) {
     const bool second_mode = pass % 2 == 1;
     s.fold_slack = second_mode ? 2 : 1;
     std::vector<WF> folded;
@@ -182,6 +182,11 @@ inline Fold_repair_result repair_folds(Remesh_state& s, const std::vector<char>*
     std::size_t kept = 0;
     for (WF f0 : folded) {
       if (!s.face_folded(f0)) continue; // repaired with an earlier face
+      if (s.budget.stop("the remeshing's fold repair", [&] {
+            return "pass " + std::to_string(pass + 1) + " of at most " + std::to_string(max_passes) + ", " +
+                   std::to_string(result.kept + kept) + " repairs kept";
+          }))
+        break; // best effort: every repair so far is complete
       const Remesh_state::Checkpoint cp = s.checkpoint();
       s.fold_total = 0;
       repair_region(s, {f0}, second_mode, budget);

@@ -11,6 +11,7 @@
 
 #include <crossparam/cross_parameterization.h>
 #include <crossparam/internal/parallel.h>
+#include <crossparam/internal/time_budget.h>
 
 #include <algorithm>
 #include <array>
@@ -113,6 +114,7 @@ public:
   Measure_cache cache;
   double eps = 0;       ///< the tolerance ε (working coordinates)
   unsigned threads = 1; ///< threads of measure() (named parameter `number_of_threads`)
+  Time_budget budget;   ///< named parameters `time_limit` and `best_effort`, checked by the long steps
 
   // Bookkeeping of the steps.
   std::vector<char> dirty;            ///< per source face: changed by a split of the current round

@@ -58,11 +58,17 @@ public:
     std::vector<WF> folds;
     for (WF f : m.faces())
       if (flipped_on_target(f)) folds.push_back(f);
+    std::size_t done = 0;
     for (WF f : folds) {
       if (!flipped_on_target(f)) continue; // untangled with an earlier one
+      if (s.budget.stop("the remeshing's untangling", [&] {
+            return std::to_string(done) + " of " + std::to_string(folds.size()) + " folded faces";
+          }))
+        break; // best effort: every untangling so far is complete
+      ++done;
       int r = untangle_in_rings(f, moved);
       for (double size : {1.0, 1.5, 2.0})
-        if (r <= 0) r = untangle_on_surface(f, size, moved);
+        if (r <= 0 && !s.budget.expired()) r = untangle_on_surface(f, size, moved);
     }
     s.n_flipped = 0;
     for (WF f : m.faces()) s.n_flipped += (s.folded[f] = flipped_on_target(f));
@@ -92,7 +98,7 @@ private:
   /// untangle_ring() for k = 1 ... 8 until a ring is kept (1) or too curved (-1); 0 if none is kept.
   int untangle_in_rings(WF f, std::vector<char>& moved) {
     int r = 0;
-    for (int k = 1; k <= 8 && r == 0; ++k) r = untangle_ring(f, k, moved);
+    for (int k = 1; k <= 8 && r == 0 && !s.budget.expired(); ++k) r = untangle_ring(f, k, moved);
     return r;
   }
 
@@ -268,7 +274,8 @@ private:
       tris.push_back({c, (good ? e : equilateral).inverse()});
     }
     Planar_untangler untangler(xy, is_free, std::move(tris));
-    if (!(untangler.run(0.3 * side) > 0) && !relayout) return 0;
+    const double det = untangler.run(0.3 * side, 51, 400, &s.budget);
+    if (!(det > 0) && (!relayout || s.budget.expired())) return 0; // a run cut short by the time limit is not kept
     std::vector<std::pair<WV, Corner>> old;
     auto restore = [&] {
       for (const auto& o : old) s.img[o.first] = o.second.img, s.pos[o.first] = o.second.pos;

@@ -13,6 +13,8 @@
 #ifndef CROSSPARAM_INTERNAL_REMESHING_UNTANGLE_H
 #define CROSSPARAM_INTERNAL_REMESHING_UNTANGLE_H
 
+#include <crossparam/internal/time_budget.h>
+
 #include <Eigen/Dense>
 
 #include <algorithm>
@@ -51,9 +53,10 @@ public:
   /// edge length keeps the line search in the range where the energy is meaningful). Returns the smallest
   /// det J at the end: positive if every triangle is positively oriented. At most `outer_rounds` values of ε:
   /// where no positive embedding exists, the smallest det J stalls well before 51 rounds.
-  double run(double max_step, int outer_rounds = 51, int inner_iterations = 400) {
+  /// Stops early, between two rounds, once `budget` (if any) has run out.
+  double run(double max_step, int outer_rounds = 51, int inner_iterations = 400, const Time_budget* budget = nullptr) {
     double eps = 1, previous = energy(eps, nullptr);
-    for (int round = 0; round < outer_rounds; ++round) {
+    for (int round = 0; round < outer_rounds && !(budget && budget->expired()); ++round) {
       minimise(eps, inner_iterations, max_step);
       const double e = energy(eps, nullptr), d = min_det();
       if (d > 0 && round >= 2) break;
