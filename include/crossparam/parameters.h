@@ -29,6 +29,8 @@ struct refinement_rule_t {};    ///< a model of RefinementRule (default Half_max
 struct max_rounds_t {};         ///< unsigned (default 30)
 struct undo_layout_splits_t {}; ///< bool (default true)
 struct number_of_threads_t {};  ///< unsigned (default 0: one per hardware thread)
+// N-way remeshing (multi_remeshing.h)
+struct source_mesh_t {};        ///< std::size_t: index of the source mesh (default 0; finest_mesh: the largest)
 } // namespace internal_np
 
 namespace parameters {
@@ -84,6 +86,10 @@ CROSSPARAM_ADD_NAMED_PARAMETER(undo_layout_splits)
 /// distortion measurement, and for the remesher's error measurement. The results do not depend on it: each mesh
 /// is smoothed on its own, every measured element is computed on its own, sums and maxima in a fixed order.
 CROSSPARAM_ADD_NAMED_PARAMETER(number_of_threads)
+
+/// \brief `std::size_t`, default 0: which of the N meshes of an N-way remeshing is the source (its index);
+/// `crossparam::finest_mesh` picks the one with the most vertices.
+CROSSPARAM_ADD_NAMED_PARAMETER(source_mesh)
 
 #undef CROSSPARAM_ADD_NAMED_PARAMETER
 
