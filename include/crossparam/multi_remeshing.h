@@ -2,18 +2,21 @@
 // One common connectivity for N meshes (Kraevoy & Sheffer 2004, §2.3): N >= 2 closed meshes of one genus, a
 // correspondence with one column per mesh; one mesh is the source. The source is mapped onto every other mesh
 // (a Cross_parameterization each); the common mesh starts as the compatible remeshing of the source and the
-// first other mesh (§5), then is fitted to each further mesh in turn, refining where it does not yet
-// approximate that mesh. Every refinement is an edge split at the midpoint of a common edge, measured on the
-// source: every common face lies inside one input source face, so the midpoint lies on the source exactly (up
-// to rounding) and the source is still reproduced; the new vertex takes its position on every mesh through
-// that mesh's map. So all N outputs always share one face list.
+// first other mesh (§5), whose outputs it keeps, then takes every further mesh in turn: each vertex goes to that
+// mesh through its map, and the common mesh is refined where it does not yet approximate it.
+//
+// Every refinement is an edge split at the midpoint of a common edge, measured on the source: every common face
+// lies inside one input source face, so the midpoint lies on the source exactly (up to rounding) and the source
+// is still reproduced. On every other mesh already placed, the new vertex goes where that mesh's compatible
+// surface has the edge's midpoint, moved to the nearest point of the mesh; so all N outputs always share one face
+// list, and the placed meshes only get closer to their inputs.
 //
 // The fit to a mesh splits, in rounds, the common edges whose midpoint is farther from the mesh than the
-// tolerance (the chord of the edge against the image of its midpoint), the longest edge of each face whose
-// centroid is, of each face that leaves a vertex of the mesh uncovered (the vertex farther from the face's
-// image of its preimage than the tolerance), and of each face flipped against the mesh (the rule of the
-// remeshing verification). A final pass refits every mesh, since a split for one mesh moves no vertex of
-// another but adds vertices to all.
+// tolerance, the longest edge of each face whose centroid is, and that of the face nearest each vertex of the
+// mesh farther from the common mesh than the tolerance. Faces flipped against the mesh (the rule of the
+// remeshing verification) are untangled along the mesh, as the last step of the remeshing does: their corners
+// move to the point of the mesh nearest the centroid of their neighbours, while that lowers the flips around
+// them. A final pass refits every mesh, since a split for one mesh adds vertices to all.
 //
 // The driver, Multi_remesher, keeps the common mesh as a face list with, per face, the input source face it lies
 // in and its corners' barycentric coordinates there (Input_face_location); a split updates both exactly.
@@ -27,6 +30,7 @@
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Polygon_mesh_processing/bbox.h>
 
 #include <algorithm>
@@ -56,6 +60,7 @@ struct Multi_remeshing_statistics {
   std::vector<std::size_t> splits;          ///< per mesh: common edges split to fit it (0 for the source)
   std::vector<double> max_chord_error;      ///< per mesh, at the end: the largest edge-midpoint or centroid chord
   std::vector<std::size_t> flipped_faces;   ///< per mesh, at the end, by the verification's rule
+  std::vector<std::size_t> untangle_moves;  ///< per mesh: vertex moves along it that removed folds
   std::vector<double> seconds_map;          ///< per mesh: its cross-parameterization (0 for the source)
   std::vector<double> seconds_fit;          ///< per mesh: the remeshing (first other mesh) or the fit
   double seconds_total = 0;
@@ -184,6 +189,7 @@ public:
     stats_.flipped_faces.assign(n, 0);
     stats_.seconds_map.assign(n, 0);
     stats_.seconds_fit.assign(n, 0);
+    stats_.untangle_moves.assign(n, 0);
     points_.resize(n);
     order_.clear();
     for (std::size_t m = 0; m < n; ++m)
@@ -213,6 +219,7 @@ public:
       faces_ = r.faces();
       floc_ = r.source_face_locations();
       points_[s] = r.source_points();
+      points_[first] = r.target_points();
       vloc_.assign(points_[s].size(), Input_location());
       std::vector<char> seen(points_[s].size(), 0);
       for (std::size_t g = 0; g < faces_.size(); ++g)
@@ -228,13 +235,10 @@ public:
           " vertices");
     }
     fitted_.assign(n, 0);
-    fitted_[s] = 1;
+    fitted_[s] = fitted_[first] = 1;
     for (std::size_t m : order_) prepare_mesh(m);
-    // Each other mesh: its points through its map, then refinement where it is not yet approximated. The
-    // remeshing placed its target-shaped vertices by its own smoothed map (and moved some off it to untangle
-    // folds); the first other mesh's points are recomputed through the map kept here, so that the vertices the
-    // later fits add agree with them.
-    for (std::size_t i = 0; i < order_.size(); ++i) {
+    // Each further mesh: its points through its map, then refinement where it is not yet approximated.
+    for (std::size_t i = 1; i < order_.size(); ++i) {
       const std::size_t m = order_[i];
       const auto tf = clock::now();
       points_[m].resize(vloc_.size());
@@ -303,6 +307,8 @@ private:
   /// The fit of one mesh stops after this many rounds in a row that lower none of the largest chord, the
   /// number of uncovered vertices and the number of flipped faces.
   static constexpr unsigned max_stale_rounds = 3;
+  /// Passes of the untangling over the corners of flipped faces, at most.
+  static constexpr unsigned untangle_passes = 10;
 
   struct Map_slot {
     std::unique_ptr<Surface_mesh> source, target;
@@ -359,8 +365,29 @@ private:
     return {faces_[g][std::size_t(best)], faces_[g][std::size_t((best + 1) % 3)]};
   }
 
+  /// The point of mesh m nearest `p`.
+  std::array<double, 3> project(std::size_t m, const std::array<double, 3>& p) const {
+    const Point_3 q = trees_[m]->closest_point(pt(p));
+    return {q.x(), q.y(), q.z()};
+  }
+  double distance_to_mesh(std::size_t m, const std::array<double, 3>& p) const {
+    return std::sqrt(trees_[m]->squared_distance(pt(p)));
+  }
+  bool flipped(std::size_t m, std::size_t g) const {
+    const Surface_mesh& t = inputs_[m];
+    auto normal = [&t](Surface_mesh::Face_index f) {
+      auto h = t.halfedge(f);
+      return internal::triangle_normal(t.point(t.source(h)), t.point(t.target(h)), t.point(t.target(t.next(h))));
+    };
+    const auto& P = points_[m];
+    const auto& f = faces_[g];
+    return internal::flipped_against_nearest(*trees_[m], normal, pt(P[f[0]]), pt(P[f[1]]), pt(P[f[2]]));
+  }
+
   /// The chords, uncovered vertices and flips of mesh m; with `marked`, the edges to split (as (a, b) with
-  /// a < b).
+  /// a < b): those whose midpoint is farther from the mesh than the tolerance, the longest edge of each face
+  /// whose centroid is, and the longest edge of the face nearest each vertex of the mesh farther from the common
+  /// mesh than the tolerance.
   Measure measure(std::size_t m, std::vector<std::pair<std::size_t, std::size_t>>* marked) const {
     Measure r;
     const double e = eps(m);
@@ -370,79 +397,91 @@ private:
       if (marked && mark.emplace(key(a, b), 1).second) marked->push_back({a, b});
     };
     const auto& P = points_[m];
-    auto normal = [&](Surface_mesh::Face_index f) {
-      const Surface_mesh& t = inputs_[m];
-      auto h = t.halfedge(f);
-      return internal::triangle_normal(t.point(t.source(h)), t.point(t.target(h)), t.point(t.target(t.next(h))));
-    };
+    std::vector<Kernel::Triangle_3> triangles;
+    triangles.reserve(faces_.size());
     for (std::size_t g = 0; g < faces_.size(); ++g) {
       const auto& f = faces_[g];
-      const auto& fl = floc_[g];
-      // Edge midpoints (each edge from the face where it runs a -> b with a < b, or both: cheap enough).
+      triangles.emplace_back(pt(P[f[0]]), pt(P[f[1]]), pt(P[f[2]]));
       for (int c = 0; c < 3; ++c) {
         const std::size_t a = f[std::size_t(c)], b = f[std::size_t((c + 1) % 3)];
         if (a > b) continue;
-        Input_location mid{fl.face, {0, 0, 0}};
-        for (int i = 0; i < 3; ++i)
-          mid.b[std::size_t(i)] = 0.5 * (fl.corners[std::size_t(c)][std::size_t(i)] + fl.corners[std::size_t((c + 1) % 3)][std::size_t(i)]);
-        const std::array<double, 3> q = map_point(m, mid);
-        const std::array<double, 3> chord{0.5 * (P[a][0] + P[b][0]), 0.5 * (P[a][1] + P[b][1]), 0.5 * (P[a][2] + P[b][2])};
-        const double d = dist(q, chord);
+        const double d = distance_to_mesh(m, {0.5 * (P[a][0] + P[b][0]), 0.5 * (P[a][1] + P[b][1]), 0.5 * (P[a][2] + P[b][2])});
         r.max_chord = std::max(r.max_chord, d);
         if (d > e) add(a, b);
       }
-      Input_location centre{fl.face, {0, 0, 0}};
-      for (int c = 0; c < 3; ++c)
-        for (int i = 0; i < 3; ++i) centre.b[std::size_t(i)] += fl.corners[std::size_t(c)][std::size_t(i)] / 3;
-      const std::array<double, 3> q = map_point(m, centre);
       std::array<double, 3> cen{0, 0, 0};
       for (int c = 0; c < 3; ++c)
         for (int k = 0; k < 3; ++k) cen[std::size_t(k)] += P[f[std::size_t(c)]][std::size_t(k)] / 3;
-      const double d = dist(q, cen);
+      const double d = distance_to_mesh(m, cen);
       r.max_chord = std::max(r.max_chord, d);
-      bool split = d > e;
-      if (internal::flipped_against_nearest(*trees_[m], normal, pt(P[f[0]]), pt(P[f[1]]), pt(P[f[2]]))) {
-        ++r.flipped;
-        split = true;
-      }
-      if (split) {
+      if (d > e) {
         const auto le = longest_edge(m, g);
         add(le.first, le.second);
       }
+      if (flipped(m, g)) ++r.flipped;
     }
-    // The mesh's vertices: each near the common face over its preimage.
-    if (m != stats_.source) {
-      std::vector<std::vector<std::size_t>> by_face(maps_[m].cp->input_faces(Mesh_side::source));
-      for (std::size_t g = 0; g < faces_.size(); ++g) by_face[floc_[g].face].push_back(g);
-      const CP& cp = *maps_[m].cp;
-      const Surface_mesh& t = inputs_[m];
-      for (auto v : t.vertices()) {
-        const Input_location l = cp.target_vertex_to_source_input(std::size_t(v));
-        std::size_t best = 0;
-        double best_min = -HUGE_VAL;
-        std::array<double, 3> bc{};
-        for (std::size_t g : by_face[l.face]) {
-          const std::array<double, 3> c = internal::Source_point_mapper::solve(floc_[g].corners, l.b);
-          const double mn = std::min({c[0], c[1], c[2]});
-          if (mn > best_min) best_min = mn, best = g, bc = c;
-        }
-        if (best_min == -HUGE_VAL) continue;
-        std::array<double, 3> q{0, 0, 0};
-        for (int c = 0; c < 3; ++c)
-          for (int k = 0; k < 3; ++k) q[std::size_t(k)] += bc[std::size_t(c)] * P[faces_[best][std::size_t(c)]][std::size_t(k)];
-        const Point_3& x = t.point(v);
-        const double d = dist(q, {x.x(), x.y(), x.z()});
-        if (d > e) {
-          ++r.uncovered;
-          const auto le = longest_edge(m, best);
-          add(le.first, le.second);
-        }
+    // The mesh's vertices: each within the tolerance of the common mesh.
+    using Primitive_t = CGAL::AABB_triangle_primitive<Kernel, std::vector<Kernel::Triangle_3>::const_iterator>;
+    using Tree_t = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive_t>>;
+    Tree_t common(triangles.cbegin(), triangles.cend());
+    common.accelerate_distance_queries();
+    for (auto v : inputs_[m].vertices()) {
+      const Point_3& x = inputs_[m].point(v);
+      const auto near = common.closest_point_and_primitive(x);
+      if (std::sqrt(CGAL::squared_distance(near.first, x)) > e) {
+        ++r.uncovered;
+        const auto le = longest_edge(m, std::size_t(near.second - triangles.cbegin()));
+        add(le.first, le.second);
       }
     }
     return r;
   }
 
-  /// Refines the common mesh until mesh m is approximated, or the rounds or the growth bound are spent.
+  /// Removes folds of output m by moving the corners of its flipped faces, one at a time, to the point of mesh
+  /// m nearest the centroid of their neighbours, a move kept only if it leaves fewer flipped faces around the
+  /// vertex. The source's points, and so the face list, are untouched. Returns the moves kept.
+  std::size_t untangle(std::size_t m) {
+    std::vector<std::vector<std::size_t>> star(vloc_.size()), ring(vloc_.size());
+    for (std::size_t g = 0; g < faces_.size(); ++g)
+      for (int c = 0; c < 3; ++c) {
+        star[faces_[g][std::size_t(c)]].push_back(g);
+        ring[faces_[g][std::size_t(c)]].push_back(faces_[g][std::size_t((c + 1) % 3)]);
+      }
+    auto flips_around = [&](std::size_t v) {
+      std::size_t n = 0;
+      for (std::size_t g : star[v]) n += flipped(m, g);
+      return n;
+    };
+    std::size_t moves = 0;
+    auto& P = points_[m];
+    for (unsigned pass = 0; pass < untangle_passes; ++pass) {
+      std::vector<std::size_t> corners;
+      for (std::size_t g = 0; g < faces_.size(); ++g)
+        if (flipped(m, g))
+          for (std::size_t v : faces_[g]) corners.push_back(v);
+      if (corners.empty()) break;
+      std::sort(corners.begin(), corners.end());
+      corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+      std::size_t kept = 0;
+      for (std::size_t v : corners) {
+        const std::size_t before = flips_around(v);
+        if (before == 0) continue;
+        std::array<double, 3> c{0, 0, 0};
+        for (std::size_t u : ring[v])
+          for (int k = 0; k < 3; ++k) c[std::size_t(k)] += P[u][std::size_t(k)] / double(ring[v].size());
+        const std::array<double, 3> old = P[v];
+        P[v] = project(m, c);
+        if (flips_around(v) < before) ++kept;
+        else P[v] = old;
+      }
+      moves += kept;
+      if (kept == 0) break;
+    }
+    return moves;
+  }
+
+  /// Refines the common mesh until mesh m is approximated, or the rounds or the growth bound are spent; folds
+  /// are untangled after every round.
   void fit(std::size_t m) {
     std::size_t largest = 0;
     for (std::size_t x : stats_.input_vertices) largest = std::max(largest, x);
@@ -450,6 +489,7 @@ private:
     best.max_chord = HUGE_VAL;
     best.flipped = best.uncovered = std::size_t(-1);
     unsigned stale = 0;
+    stats_.untangle_moves[m] += untangle(m);
     for (unsigned round = 0; round < max_rounds_; ++round) {
       std::vector<std::pair<std::size_t, std::size_t>> marked;
       const Measure e = measure(m, &marked);
@@ -472,6 +512,7 @@ private:
       build_edge_index();
       for (const auto& ab : marked) split(ab.first, ab.second);
       stats_.splits[m] += marked.size();
+      stats_.untangle_moves[m] += untangle(m);
     }
   }
 
@@ -505,8 +546,16 @@ private:
     };
     const std::array<double, 3> m1 = halve(g1), m2 = halve(g2);
     vloc_.push_back({floc_[g1].face, m1});
-    for (std::size_t m = 0; m < points_.size(); ++m)
-      if (fitted_[m]) points_[m].push_back(map_point(m, vloc_.back()));
+    for (std::size_t m = 0; m < points_.size(); ++m) {
+      if (!fitted_[m]) continue;
+      if (m == stats_.source) {
+        points_[m].push_back(source_point(vloc_.back()));
+      } else {
+        const auto& pa = points_[m][a];
+        const auto& pb = points_[m][b];
+        points_[m].push_back(project(m, {0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1]), 0.5 * (pa[2] + pb[2])}));
+      }
+    }
     // Face g (with edge x -> y) becomes (x, v, z) and a new face (v, y, z).
     auto cut = [&](std::size_t g, std::size_t x, std::size_t y, const std::array<double, 3>& mb) {
       const int cx = corner(g, x), cy = corner(g, y), cz = 3 - cx - cy;

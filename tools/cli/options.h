@@ -27,6 +27,16 @@ inline const char* const usage_text =
     "  remesh SOURCE TARGET --features FILE -o DIR [--tolerance PCT]\n"
     "      compatible remeshing (paper section 5): two meshes with one connectivity, one reproducing SOURCE,\n"
     "      the other approximating TARGET\n"
+    "  remesh M0 M1 M2 ... --features FILE -o DIR [--tolerance PCT] [--source-mesh K|finest]\n"
+    "      one connectivity for three or more meshes (paper section 2.3): compatible_0.off ... one per mesh,\n"
+    "      in command-line order; FILE has one column per mesh\n"
+    "  blend M0 M1 ... -o DIR (--weights W0,W1,... | --weight-file FILE | --region K,R[,F] --features FILE)\n"
+    "      blend of compatible meshes: affine weights, one row of weights per vertex, or (two meshes) M1\n"
+    "      within geodesic distance R of feature K and M0 elsewhere, with a falloff F (R, F in units of the\n"
+    "      square root of M0's area; F defaults to R/2)\n"
+    "  transfer SOURCE.obj TARGET --features FILE -o DIR [--texture IMG] [--attributes FILE]\n"
+    "      the source's texture coordinates onto the target's shape (target_textured.obj, .mtl, the image),\n"
+    "      and per-vertex data of the source (one row per vertex) onto the target's vertices\n"
     "  morph A B --frames N -o DIR\n"
     "      N meshes interpolating between two compatible meshes (e.g. the outputs of remesh)\n"
     "  demo -o DIR\n"
@@ -77,6 +87,9 @@ struct Options {
   unsigned threads = 0;
   unsigned frames = 9;
   Render_options render;
+  // N-way remeshing, blends and transfers (cli/multi.h)
+  std::size_t source_mesh = 0; ///< --source-mesh; crossparam::finest_mesh for "finest"
+  std::string weights, weight_file, region, texture, attributes;
 };
 
 /// Largest accepted `--iterations`, `--threads` and `--frames`: far above any useful value, low enough that a
@@ -135,6 +148,15 @@ inline Options parse(int argc, char** argv) {
     else if (a == "--threads") o.threads = whole_number(value(), 0, max_threads, "--threads needs a whole number up to 1024");
     else if (a == "--tolerance") o.tolerance = tolerance_percent(value());
     else if (a == "--frames") o.frames = whole_number(value(), 2, max_frames, "--frames needs a whole number from 2 to 10000");
+    else if (a == "--weights") o.weights = value();
+    else if (a == "--weight-file") o.weight_file = value();
+    else if (a == "--region") o.region = value();
+    else if (a == "--texture") o.texture = value();
+    else if (a == "--attributes") o.attributes = value();
+    else if (a == "--source-mesh") {
+      const std::string v = value();
+      o.source_mesh = v == "finest" ? std::size_t(-1) : whole_number(v, 0, max_frames, "--source-mesh needs a mesh index or 'finest'");
+    }
     else if (a == "--quiet" || a == "-q") o.quiet = true;
     else if (a == "-h" || a == "--help") throw Usage_error("");
     else if (!a.empty() && a[0] == '-') throw Usage_error("unknown option " + a);

@@ -24,6 +24,9 @@ struct Render_mesh {
   std::vector<std::array<std::size_t, 3>> triangles;
   std::vector<std::array<unsigned char, 3>> face_colors;
   std::vector<std::array<unsigned char, 3>> vertex_colors;
+  /// A texture instead of colours: a PNG image and, per triangle, its corners' (u, v) in it.
+  std::string texture_png;
+  std::vector<std::array<std::array<double, 2>, 3>> corner_uvs;
 };
 
 struct Render_options {
@@ -133,6 +136,12 @@ inline void render_png(const Render_mesh& mesh, const std::string& png_path, con
       os << ",\n";
       v3(unit3(n));
     }
+    const bool textured = !mesh.texture_png.empty() && mesh.corner_uvs.size() == mesh.triangles.size();
+    if (textured) {
+      os << " }\n uv_vectors { " << 3 * mesh.corner_uvs.size();
+      for (const auto& corners : mesh.corner_uvs)
+        for (const auto& t : corners) os << ",\n<" << t[0] << "," << t[1] << ">";
+    }
     const bool per_vertex = !mesh.vertex_colors.empty();
     const auto& colors = per_vertex ? mesh.vertex_colors : mesh.face_colors;
     if (colors.empty()) {
@@ -152,7 +161,14 @@ inline void render_png(const Render_mesh& mesh, const std::string& png_path, con
       else if (!colors.empty()) os << "," << f;
     }
     os << " }\n";
-    if (colors.empty()) os << " texture { pigment { rgb <0.8,0.8,0.8> } finish { ambient 0.25 diffuse 0.75 } }\n";
+    if (textured) {
+      os << " uv_indices { " << mesh.triangles.size();
+      for (std::size_t f = 0; f < mesh.triangles.size(); ++f) os << ",\n<" << 3 * f << "," << 3 * f + 1 << "," << 3 * f + 2 << ">";
+      os << " }\n texture { uv_mapping pigment { image_map { png \"" << fs::absolute(mesh.texture_png).string()
+         << "\" interpolate 2 } } finish { ambient 0.25 diffuse 0.75 specular 0.1 } }\n";
+    } else if (colors.empty()) {
+      os << " texture { pigment { rgb <0.8,0.8,0.8> } finish { ambient 0.25 diffuse 0.75 } }\n";
+    }
     os << "}\n";
   }
   const std::string cmd = "povray -D +A0.3 +W" + std::to_string(opt.width) + " +H" + std::to_string(opt.height) +
