@@ -180,6 +180,33 @@ inline std::vector<std::vector<double>> read_rows(const std::string& path) {
   return rows;
 }
 
+/// Frames of the textured morph strip, and the strip picture's size per frame.
+constexpr unsigned textured_strip_frames = 5;
+constexpr int textured_strip_frame_width = 300, textured_strip_height = 320;
+/// Distance between neighbouring meshes in a strip or a triangle of blends, in mesh widths (a small gap).
+constexpr double picture_pitch = 1.15;
+
+/// The right and up directions of the pictures (as render_png frames them), for laying meshes out side by side.
+inline std::array<double, 3> picture_right(const Options& o) { return unit3(cross3(o.render.up, o.render.view_direction)); }
+
+/// Extent of a point list along a unit direction.
+inline double extent_along(const std::vector<std::array<double, 3>>& pts, const std::array<double, 3>& d) {
+  double lo = HUGE_VAL, hi = -HUGE_VAL;
+  for (const auto& p : pts) {
+    const double x = p[0] * d[0] + p[1] * d[1] + p[2] * d[2];
+    lo = std::min(lo, x), hi = std::max(hi, x);
+  }
+  return hi - lo;
+}
+
+/// Appends `pts` shifted by `shift`, with `tris`, to a picture.
+inline void append_shifted(Render_mesh& picture, const std::vector<std::array<double, 3>>& pts,
+                           const std::vector<std::array<std::size_t, 3>>& tris, const std::array<double, 3>& shift) {
+  const std::size_t base = picture.points.size();
+  for (const auto& p : pts) picture.points.push_back({p[0] + shift[0], p[1] + shift[1], p[2] + shift[2]});
+  for (const auto& f : tris) picture.triangles.push_back({f[0] + base, f[1] + base, f[2] + base});
+}
+
 /// Rows of the triangle of blends: the corners are the three inputs, the blend at row i, column j (j <= i) has
 /// weights (1 - i/R, (i - j)/R, j/R) with R = rows - 1.
 constexpr unsigned blend_triangle_rows = 5;
@@ -268,35 +295,6 @@ inline int run_blend(const Options& o) {
   return 0;
 }
 
-/// Frames of the textured morph strip, and the strip picture's size per frame.
-constexpr unsigned textured_strip_frames = 5;
-constexpr int textured_strip_frame_width = 300, textured_strip_height = 320;
-/// Distance between neighbouring meshes in a strip or a triangle of blends, in mesh widths (a small gap).
-constexpr double picture_pitch = 1.15;
-
-/// The right and up directions of the pictures (as render_png frames them), for laying meshes out side by side.
-inline std::array<double, 3> picture_right(const Options& o) { return unit3(cross3(o.render.up, o.render.view_direction)); }
-
-/// Extent of a point list along a unit direction.
-inline double extent_along(const std::vector<std::array<double, 3>>& pts, const std::array<double, 3>& d) {
-  double lo = HUGE_VAL, hi = -HUGE_VAL;
-  for (const auto& p : pts) {
-    const double x = p[0] * d[0] + p[1] * d[1] + p[2] * d[2];
-    lo = std::min(lo, x), hi = std::max(hi, x);
-  }
-  return hi - lo;
-}
-
-/// Appends `pts` shifted by `shift` (and `tris`, `uvs`) to a picture.
-inline void append_shifted(Render_mesh& picture, const std::vector<std::array<double, 3>>& pts,
-                           const std::vector<std::array<std::size_t, 3>>& tris, const std::array<double, 3>& shift,
-                           const std::vector<Corner_uvs>* uvs = nullptr) {
-  const std::size_t base = picture.points.size();
-  for (const auto& p : pts) picture.points.push_back({p[0] + shift[0], p[1] + shift[1], p[2] + shift[2]});
-  for (const auto& f : tris) picture.triangles.push_back({f[0] + base, f[1] + base, f[2] + base});
-  if (uvs) picture.corner_uvs.insert(picture.corner_uvs.end(), uvs->begin(), uvs->end());
-}
-
 /// The pictures of `transfer`: the source with its own texture, the target's shape with the source's texture,
 /// and a strip of the textured morph from one to the other.
 inline void write_transfer_pictures(const Options& o, const Textured_mesh& source, const std::vector<std::array<double, 3>>& source_points,
@@ -306,22 +304,27 @@ inline void write_transfer_pictures(const Options& o, const Textured_mesh& sourc
   Render_mesh s;
   s.points = source.points;
   s.triangles = source.uv.face_vertices;
-  s.texture_png = texture;
-  for (const auto& t : source.uv.face_uvs) s.corner_uvs.push_back({source.uv.uvs[t[0]], source.uv.uvs[t[1]], source.uv.uvs[t[2]]});
-  render_png(s, output_path(o, "source_textured.png"), o.render);
-  render_png(Render_mesh{target_points, faces, {}, {}, texture, uvs}, output_path(o, "target_textured.png"), o.render);
+  Render_texture st{texture, {}};
+  for (const auto& t : source.uv.face_uvs) st.corner_uvs.push_back({source.uv.uvs[t[0]], source.uv.uvs[t[1]], source.uv.uvs[t[2]]});
+  render_png(s, output_path(o, "source_textured.png"), o.render, &st);
+  Render_texture tt{texture, uvs};
+  Render_mesh t;
+  t.points = target_points;
+  t.triangles = faces;
+  render_png(t, output_path(o, "target_textured.png"), o.render, &tt);
   Render_mesh strip;
-  strip.texture_png = texture;
+  Render_texture strip_texture{texture, {}};
   const std::array<double, 3> right = picture_right(o);
   const double width = std::max(extent_along(source_points, right), extent_along(target_points, right));
   for (unsigned k = 0; k < textured_strip_frames; ++k) {
     const double t = double(k) / double(textured_strip_frames - 1), shift = picture_pitch * width * k;
-    append_shifted(strip, morph(source_points, target_points, t), faces, {shift * right[0], shift * right[1], shift * right[2]}, &uvs);
+    append_shifted(strip, morph(source_points, target_points, t), faces, {shift * right[0], shift * right[1], shift * right[2]});
+    strip_texture.corner_uvs.insert(strip_texture.corner_uvs.end(), uvs.begin(), uvs.end());
   }
   Render_options so = o.render;
   so.height = textured_strip_height;
   so.width = textured_strip_frame_width * int(textured_strip_frames);
-  render_png(strip, output_path(o, "textured_morph_strip.png"), so);
+  render_png(strip, output_path(o, "textured_morph_strip.png"), so, &strip_texture);
 }
 
 /// `transfer SOURCE.obj TARGET --features FILE -o DIR`: the source's texture coordinates onto the target-shaped
