@@ -7,9 +7,9 @@
 //
 // Every refinement is an edge split at the midpoint of a common edge, measured on the source: every common face
 // lies inside one input source face, so the midpoint lies on the source exactly (up to rounding) and the source
-// is still reproduced. On every other mesh already placed, the new vertex goes where that mesh's compatible
-// surface has the edge's midpoint, moved to the nearest point of the mesh; so all N outputs always share one face
-// list, and the placed meshes only get closer to their inputs.
+// is still reproduced. On the mesh being fitted the new vertex goes through that mesh's map; on every other mesh
+// already placed, where that mesh's compatible surface has the edge's midpoint, moved to the nearest point of the
+// mesh. So all N outputs always share one face list, and the placed meshes only get closer to their inputs.
 //
 // The fit to a mesh splits, in rounds, the common edges whose midpoint is farther from the mesh than the
 // tolerance, the longest edge of each face whose centroid is, and that of the face nearest each vertex of the
@@ -489,6 +489,7 @@ private:
     best.max_chord = HUGE_VAL;
     best.flipped = best.uncovered = std::size_t(-1);
     unsigned stale = 0;
+    fitting_ = m;
     stats_.untangle_moves[m] += untangle(m);
     for (unsigned round = 0; round < max_rounds_; ++round) {
       std::vector<std::pair<std::size_t, std::size_t>> marked;
@@ -548,8 +549,8 @@ private:
     vloc_.push_back({floc_[g1].face, m1});
     for (std::size_t m = 0; m < points_.size(); ++m) {
       if (!fitted_[m]) continue;
-      if (m == stats_.source) {
-        points_[m].push_back(source_point(vloc_.back()));
+      if (m == stats_.source || m == fitting_) {
+        points_[m].push_back(map_point(m, vloc_.back()));
       } else {
         const auto& pa = points_[m][a];
         const auto& pb = points_[m][b];
@@ -602,6 +603,7 @@ private:
   std::vector<std::unique_ptr<Tree>> trees_;
   std::vector<double> diagonal_;
   std::vector<char> fitted_;
+  std::size_t fitting_ = std::size_t(-1); ///< the mesh being fitted: its new vertices go through its map
   std::vector<std::array<std::size_t, 3>> faces_;
   std::vector<Input_face_location> floc_;
   std::vector<Input_location> vloc_;
