@@ -7,7 +7,7 @@
 // the maps: the distance of each landmark's image from its true position, in units of the square root of the
 // mesh's area. Prints a Markdown table.
 //
-//   bench_multi [CASE_DIR] [TOLERANCE_PERCENT]
+//   bench_multi [CASE_DIR] [TOLERANCE_PERCENT] [MESH_COUNTS]      (MESH_COUNTS default "3,5")
 #include <crossparam/io.h>
 #include <crossparam/multi_remeshing.h>
 #include <crossparam/remeshing_verification.h>
@@ -88,7 +88,7 @@ void run(const fs::path& dir, std::size_t n, double tolerance) {
   for (std::size_t m = 0; m < n; ++m) {
     if (m == S.source) {
       const Remeshing_verification v = verify_compatible_remeshing(meshes[m], meshes[m], outs[m], outs[m], tolerance);
-      std::cout << "| " << m << " (source) | " << meshes[m].number_of_vertices() << " | " << fmt(v.hausdorff_target, 6)
+      std::cout << "| " << m << " (source) | " << meshes[m].number_of_vertices() << " | " << fmt(v.hausdorff_source, 6)
                 << " | " << v.flipped_faces << " | - | - | - | - | - | " << (v.valid ? "yes" : "no") << " |\n";
       continue;
     }
@@ -121,8 +121,8 @@ int main(int argc, char** argv) try {
     return 0;
   }
   std::cout << "## N-way common connectivity: " << dir.filename().string() << "\n";
-  run(dir, 3, tolerance);
-  run(dir, 5, tolerance);
+  std::stringstream counts(argc > 3 ? argv[3] : "3,5");
+  for (std::string n; std::getline(counts, n, ',');) run(dir, std::stoul(n), tolerance);
   return 0;
 } catch (const std::exception& e) {
   std::cerr << "bench_multi: " << e.what() << "\n";

@@ -307,8 +307,10 @@ private:
   /// The fit of one mesh stops after this many rounds in a row that lower none of the largest chord, the
   /// number of uncovered vertices and the number of flipped faces.
   static constexpr unsigned max_stale_rounds = 3;
-  /// Passes of the untangling over the corners of flipped faces, at most.
-  static constexpr unsigned untangle_passes = 10;
+  /// Passes of the untangling over the regions around flipped faces, at most.
+  static constexpr unsigned untangle_passes = 40;
+  /// The untangling stops after this many passes in a row that do not lower the number of flipped faces.
+  static constexpr unsigned untangle_patience = 4;
 
   struct Map_slot {
     std::unique_ptr<Surface_mesh> source, target;
@@ -437,9 +439,10 @@ private:
     return r;
   }
 
-  /// Removes folds of output m by moving the corners of its flipped faces, one at a time, to the point of mesh
-  /// m nearest the centroid of their neighbours, a move kept only if it leaves fewer flipped faces around the
-  /// vertex. The source's points, and so the face list, are untouched. Returns the moves kept.
+  /// Removes folds of output m by tangential smoothing along mesh m around its flipped faces: each corner of a
+  /// flipped face and each neighbour of one moves, in turn, to the point of mesh m nearest the centroid of its
+  /// neighbours, a move kept unless it leaves more flipped faces around the vertex. The source's points, and so
+  /// the face list, are untouched. Returns the moves kept.
   std::size_t untangle(std::size_t m) {
     std::vector<std::vector<std::size_t>> star(vloc_.size()), ring(vloc_.size());
     for (std::size_t g = 0; g < faces_.size(); ++g)
@@ -452,30 +455,35 @@ private:
       for (std::size_t g : star[v]) n += flipped(m, g);
       return n;
     };
-    std::size_t moves = 0;
+    std::size_t moves = 0, best = std::size_t(-1);
+    unsigned stale = 0;
     auto& P = points_[m];
     for (unsigned pass = 0; pass < untangle_passes; ++pass) {
-      std::vector<std::size_t> corners;
+      std::vector<std::size_t> region;
+      std::size_t count = 0;
       for (std::size_t g = 0; g < faces_.size(); ++g)
-        if (flipped(m, g))
-          for (std::size_t v : faces_[g]) corners.push_back(v);
-      if (corners.empty()) break;
-      std::sort(corners.begin(), corners.end());
-      corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
-      std::size_t kept = 0;
-      for (std::size_t v : corners) {
+        if (flipped(m, g)) {
+          ++count;
+          for (std::size_t v : faces_[g]) {
+            region.push_back(v);
+            region.insert(region.end(), ring[v].begin(), ring[v].end());
+          }
+        }
+      if (count == 0) break;
+      if (count < best) best = count, stale = 0;
+      else if (++stale == untangle_patience) break;
+      std::sort(region.begin(), region.end());
+      region.erase(std::unique(region.begin(), region.end()), region.end());
+      for (std::size_t v : region) {
         const std::size_t before = flips_around(v);
-        if (before == 0) continue;
         std::array<double, 3> c{0, 0, 0};
         for (std::size_t u : ring[v])
           for (int k = 0; k < 3; ++k) c[std::size_t(k)] += P[u][std::size_t(k)] / double(ring[v].size());
         const std::array<double, 3> old = P[v];
         P[v] = project(m, c);
-        if (flips_around(v) < before) ++kept;
-        else P[v] = old;
+        if (flips_around(v) > before) P[v] = old;
+        else ++moves;
       }
-      moves += kept;
-      if (kept == 0) break;
     }
     return moves;
   }
