@@ -4,6 +4,9 @@
 //   crossparam layout SOURCE TARGET --features FILE -o DIR   patch layouts (paper §3)
 //   crossparam map SOURCE TARGET --features FILE -o DIR      cross-parameterization (§4)
 //   crossparam remesh SOURCE TARGET --features FILE -o DIR   compatible remeshing (§5)
+//   crossparam remesh M0 M1 M2 ... --features FILE -o DIR   one connectivity for N meshes (§2.3)
+//   crossparam blend M0 M1 ... -o DIR                       affine and local blends of compatible meshes
+//   crossparam transfer SOURCE.obj TARGET --features FILE -o DIR   texture and attribute transfer (§6)
 //   crossparam morph A B --frames N -o DIR                   morph between two compatible meshes
 //   crossparam demo -o DIR                                   the built-in example, end to end
 //
@@ -17,10 +20,12 @@
 //   commands.h  the commands: inputs, the library calls, the demo
 //   output_folder.h  the output folder: checked first, whole results moved into place at the end
 //   outputs.h   the files, pictures and summary lines each command writes
+//   multi.h     the commands on N meshes and the transfers
 //   report.h    the JSON writer of report.json
 //   render.h    pictures with POV-Ray (--png)
 //   png.h       the PNG writer of the checkerboard texture
 #include "cli/commands.h"
+#include "cli/multi.h"
 #include "cli/options.h"
 #include "cli/render.h"
 
@@ -45,7 +50,9 @@ int main(int argc, char** argv) {
       throw Error("--png needs POV-Ray, which is not installed (apt-get install povray)");
     if (o.command == "layout") return run_layout(o);
     if (o.command == "map") return run_map(o);
-    if (o.command == "remesh") return run_remesh(o);
+    if (o.command == "remesh") return o.positional.size() >= 3 ? run_multi_remesh(o) : run_remesh(o);
+    if (o.command == "blend") return run_blend(o);
+    if (o.command == "transfer") return run_transfer(o);
     if (o.command == "morph") return run_morph(o);
     if (o.command == "demo") return run_demo(o);
     if (o.command == "-h" || o.command == "--help" || o.command == "help") {

@@ -190,6 +190,9 @@ public:
   const std::vector<double>& vertex_error() const { return out_.vertex_error; }
   /// Where each output vertex lands on the target, against the target as given.
   const std::vector<Input_location>& target_locations() const { return out_.target_locations; }
+  /// Per face of `faces()`, the input source face it lies in and its corners there (the source-shaped mesh is
+  /// the source refined by splits: every face lies inside one input face).
+  const std::vector<Input_face_location>& source_face_locations() const { return out_.source_faces; }
   const Remeshing_statistics& statistics() const { return stats_; }
   const Bijectivity_certificate& certificate() const { return cert_; }
 

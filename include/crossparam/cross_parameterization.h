@@ -424,6 +424,13 @@ public:
       for (int k = 0; k < 3; ++k) q[k] += l.b[i] * L.input_points[L.orig_tri[l.face][i]][k];
     return q;
   }
+  /// The vertices of input face `face` of mesh `side` (input vertex indices, in the face's input order): the
+  /// corners that the barycentric coordinates of an `Input_location` on that face refer to.
+  const std::array<std::size_t, 3>& input_face_vertices(Mesh_side side, std::size_t face) const {
+    return B_.side[internal::side_index(side)].orig_tri.at(face);
+  }
+  /// Face count of input mesh `side`, before any refinement.
+  std::size_t input_faces(Mesh_side side) const { return B_.side[internal::side_index(side)].orig_tri.size(); }
   /// The features of the map: the user's, then the protrusion features added (statistics().protrusion_features).
   const Feature_correspondence& features() const { return features_; }
 

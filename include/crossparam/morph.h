@@ -8,6 +8,7 @@
 #include <crossparam/validation.h> // check_compatible
 
 #include <array>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -25,16 +26,36 @@ inline std::vector<std::array<double, 3>> blend_points(const std::vector<const s
   return out;
 }
 
+/// How far from 1 the sum of affine weights may be (rounding of weights written in decimal).
+constexpr double affine_weight_sum_tolerance = 1e-9;
+
+/// Checks `n_meshes` affine weights: one per mesh, finite, summing to 1.
+/// \throws Input_error naming `what` otherwise
+inline void check_affine_weights(const std::vector<double>& weights, std::size_t n_meshes, const std::string& what) {
+  if (weights.size() != n_meshes)
+    throw Input_error(what + ": " + std::to_string(weights.size()) + " weights for " + std::to_string(n_meshes) +
+                      " meshes (one weight per mesh is needed)");
+  double sum = 0;
+  for (double w : weights) {
+    if (!std::isfinite(w)) throw Input_error(what + ": a weight is not a finite number");
+    sum += w;
+  }
+  if (!(std::abs(sum - 1) <= affine_weight_sum_tolerance))
+    throw Input_error(what + ": the weights sum to " + std::to_string(sum) + ", not 1 (an affine combination is needed)");
+}
+
 } // namespace internal
 
-/// Weighted blend of the points of several compatible meshes (weights are used as given; they normally sum to
-/// 1): the N-way blend of §2.3.
+/// Affine blend of the points of several compatible meshes, sum over meshes of weight times point: the N-way
+/// blend of §2.3 (the paper's Fig. 11).
 /// \pre the meshes are compatible (check_compatible() for soups); only the point counts are checked here.
-/// \throws Input_error unless there is one weight per point list (and at least one list);
-///         Incompatible_inputs_error if the point lists differ in size.
+/// \throws Input_error unless there is one finite weight per point list (and at least one list) and the weights
+///         sum to 1 (up to `internal::affine_weight_sum_tolerance`); Incompatible_inputs_error if the point lists
+///         differ in size.
 inline std::vector<std::array<double, 3>> blend(const std::vector<const std::vector<std::array<double, 3>>*>& meshes,
                                                 const std::vector<double>& weights) {
-  if (meshes.empty() || meshes.size() != weights.size()) throw Input_error("blend: one weight per mesh is needed");
+  if (meshes.empty()) throw Input_error("blend: no mesh to blend");
+  internal::check_affine_weights(weights, meshes.size(), "blend");
   for (const auto* m : meshes)
     if (m->size() != meshes[0]->size()) throw Incompatible_inputs_error("blend: the point lists differ in size");
   return internal::blend_points(meshes, weights);

@@ -32,6 +32,8 @@ struct number_of_threads_t {};  ///< unsigned (default 0: one per hardware threa
 // Every computation
 struct time_limit_t {};         ///< double, seconds (default: none)
 struct best_effort_t {};        ///< bool (default false)
+// N-way remeshing (multi_remeshing.h)
+struct source_mesh_t {};        ///< std::size_t: index of the source mesh (default 0; finest_mesh: the largest)
 } // namespace internal_np
 
 namespace parameters {
@@ -101,6 +103,9 @@ CROSSPARAM_ADD_NAMED_PARAMETER(time_limit)
 /// the end of the computation, skipping the remaining improving steps. A step that must finish (the layout,
 /// the initial parameterization, the certificates) still throws Time_limit_error.
 CROSSPARAM_ADD_NAMED_PARAMETER(best_effort)
+/// \brief `std::size_t`, default 0: which of the N meshes of an N-way remeshing is the source (its index);
+/// `crossparam::finest_mesh` picks the one with the most vertices.
+CROSSPARAM_ADD_NAMED_PARAMETER(source_mesh)
 
 #undef CROSSPARAM_ADD_NAMED_PARAMETER
 

@@ -91,6 +91,15 @@ struct Input_location {
   std::array<double, 3> b{{0, 0, 0}};
 };
 
+/// Where one face of a refinement of an input mesh lies on that input mesh: inside input face `face` (index in
+/// input order), whose vertices are `vertices` (input vertex indices, in the input face's own order), with
+/// corner c of the refined face at barycentric coordinates `corners[c]` with respect to `vertices`.
+struct Input_face_location {
+  std::size_t face = 0;
+  std::array<std::size_t, 3> vertices{{0, 0, 0}};
+  std::array<std::array<double, 3>, 3> corners{};
+};
+
 namespace internal {
 /// The index 0 (source) or 1 (target) of a side, as internal arrays of two use it.
 inline constexpr int side_index(Mesh_side side) { return side == Mesh_side::source ? 0 : 1; }

@@ -26,6 +26,12 @@ struct Render_mesh {
   std::vector<std::array<unsigned char, 3>> vertex_colors;
 };
 
+/// A texture instead of colours: a PNG image and, per triangle of the mesh, its corners' (u, v) in it.
+struct Render_texture {
+  std::string png;
+  std::vector<std::array<std::array<double, 2>, 3>> corner_uvs;
+};
+
 struct Render_options {
   int width = 640;
   int height = 480;
@@ -58,7 +64,8 @@ inline std::array<double, 3> unit3(std::array<double, 3> a) {
 
 /// Renders `mesh` to the PNG file `png_path` with POV-Ray. Throws Error with a clear message if POV-Ray is
 /// not installed or fails. The PNG is written through a temporary file and renamed.
-inline void render_png(const Render_mesh& mesh, const std::string& png_path, const Render_options& opt = {}) {
+inline void render_png(const Render_mesh& mesh, const std::string& png_path, const Render_options& opt = {},
+                       const Render_texture* texture = nullptr) {
   namespace fs = std::filesystem;
   if (!povray_available())
     throw Error("cannot render " + png_path + ": POV-Ray is not installed (apt-get install povray)");
@@ -133,6 +140,12 @@ inline void render_png(const Render_mesh& mesh, const std::string& png_path, con
       os << ",\n";
       v3(unit3(n));
     }
+    const bool textured = texture && texture->corner_uvs.size() == mesh.triangles.size();
+    if (textured) {
+      os << " }\n uv_vectors { " << 3 * texture->corner_uvs.size();
+      for (const auto& corners : texture->corner_uvs)
+        for (const auto& t : corners) os << ",\n<" << t[0] << "," << t[1] << ">";
+    }
     const bool per_vertex = !mesh.vertex_colors.empty();
     const auto& colors = per_vertex ? mesh.vertex_colors : mesh.face_colors;
     if (colors.empty()) {
@@ -152,7 +165,14 @@ inline void render_png(const Render_mesh& mesh, const std::string& png_path, con
       else if (!colors.empty()) os << "," << f;
     }
     os << " }\n";
-    if (colors.empty()) os << " texture { pigment { rgb <0.8,0.8,0.8> } finish { ambient 0.25 diffuse 0.75 } }\n";
+    if (textured) {
+      os << " uv_indices { " << mesh.triangles.size();
+      for (std::size_t f = 0; f < mesh.triangles.size(); ++f) os << ",\n<" << 3 * f << "," << 3 * f + 1 << "," << 3 * f + 2 << ">";
+      os << " }\n texture { uv_mapping pigment { image_map { png \"" << fs::absolute(texture->png).string()
+         << "\" interpolate 2 } } finish { ambient 0.25 diffuse 0.75 specular 0.1 } }\n";
+    } else if (colors.empty()) {
+      os << " texture { pigment { rgb <0.8,0.8,0.8> } finish { ambient 0.25 diffuse 0.75 } }\n";
+    }
     os << "}\n";
   }
   const std::string cmd = "povray -D +A0.3 +W" + std::to_string(opt.width) + " +H" + std::to_string(opt.height) +

@@ -73,6 +73,7 @@ struct Remesh_outputs {
   std::vector<std::array<double, 3>> target_points; ///< the target-shaped mesh's points, on the target
   std::vector<Input_location> target_locations;     ///< where each vertex lands on the target as given
   std::vector<double> vertex_error;                 ///< the smoothed e(v) where each vertex lands, percent
+  std::vector<Input_face_location> source_faces;    ///< per face: the input source face holding it
 };
 
 /// The remeshed mesh and its image on the target. Not copyable: the parameterization points to the mesh.
@@ -516,6 +517,14 @@ public:
       std::array<std::size_t, 3> t{std::size_t(m.source(h)), std::size_t(m.target(h)), std::size_t(m.target(m.next(h)))};
       if (mesh.reversed) std::swap(t[1], t[2]);
       out.faces.push_back(t);
+      Input_face_location l;
+      const int o = mesh.forig[f];
+      l.face = std::size_t(o);
+      l.vertices = mesh.orig_tri[std::size_t(o)];
+      for (int c = 0; c < 3; ++c)
+        if (!mesh.rep_in(WV(WV::size_type(t[c])), o, l.corners[c]))
+          throw Algorithm_error("internal error: remeshed face outside its input face");
+      out.source_faces.push_back(l);
     }
     for (WV v : m.vertices()) {
       out.source_points.push_back(mesh.input_position(v));

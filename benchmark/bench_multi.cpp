@@ -1,0 +1,130 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Benchmark of the N-way common connectivity (paper §2.3) on the five four-legged animals of
+// bench_multi/fourleg5, with all five meshes and with the first three. Per run, checked by code that does not
+// trust the remesher: the N outputs are written as OFF files and read back, and their face lists compared; each
+// output against its own input by CGAL's bounded-error Hausdorff distance and the flip rule of the
+// verification (remeshing_verification.h). The held-out landmarks (truth/landmarks_eval.txt) are sent through
+// the maps: the distance of each landmark's image from its true position, in units of the square root of the
+// mesh's area. Prints a Markdown table.
+//
+//   bench_multi [CASE_DIR] [TOLERANCE_PERCENT] [MESH_COUNTS]      (MESH_COUNTS default "3,5")
+#include <crossparam/io.h>
+#include <crossparam/multi_remeshing.h>
+#include <crossparam/remeshing_verification.h>
+
+#include <CGAL/Polygon_mesh_processing/measure.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+using namespace crossparam;
+namespace fs = std::filesystem;
+
+namespace {
+
+Multi_feature_correspondence read_columns(const std::string& path, std::size_t columns) {
+  std::ifstream in(path);
+  if (!in) throw Input_error(path + ": cannot open");
+  Multi_feature_correspondence out;
+  std::string line;
+  while (std::getline(in, line)) {
+    line = line.substr(0, line.find('#'));
+    std::istringstream s(line);
+    std::vector<std::size_t> row;
+    std::size_t x;
+    while (s >> x) row.push_back(x);
+    if (row.empty()) continue;
+    if (row.size() < columns) throw Input_error(path + ": a row with too few columns");
+    row.resize(columns);
+    out.push_back(row);
+  }
+  return out;
+}
+
+std::string fmt(double x, int digits = 3) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(digits) << x;
+  return s.str();
+}
+
+void run(const fs::path& dir, std::size_t n, double tolerance) {
+  std::vector<Surface_mesh> meshes(n);
+  std::size_t largest = 0;
+  for (std::size_t m = 0; m < n; ++m) {
+    read_triangle_mesh((dir / ("mesh_" + std::to_string(m) + ".off")).string(), meshes[m]);
+    largest = std::max<std::size_t>(largest, meshes[m].number_of_vertices());
+  }
+  const Multi_feature_correspondence features = read_columns((dir / "features.txt").string(), n);
+  const Multi_feature_correspondence landmarks = read_columns((dir / "truth" / "landmarks_eval.txt").string(), n);
+  const Multi_remesher<Surface_mesh> r(meshes, features, crossparam::parameters::tolerance(tolerance));
+  const Multi_remeshing_statistics& S = r.statistics();
+  // One face list: the outputs as files, read back.
+  const fs::path tmp = fs::temp_directory_path() / ("crossparam_bench_multi_" + std::to_string(n));
+  fs::create_directories(tmp);
+  std::vector<Polygon_soup> back;
+  for (std::size_t m = 0; m < n; ++m) {
+    const std::string p = (tmp / ("compatible_" + std::to_string(m) + ".off")).string();
+    write_off(p, r.points(m), r.faces());
+    back.push_back(read_polygon_soup(p));
+  }
+  bool one_face_list = true;
+  for (std::size_t m = 1; m < n; ++m)
+    one_face_list = one_face_list && back[m].polygons == back[0].polygons && back[m].points.size() == back[0].points.size();
+  fs::remove_all(tmp);
+  std::vector<Surface_mesh> outs(n);
+  for (std::size_t m = 0; m < n; ++m) r.copy_to(m, outs[m]);
+  std::cout << "\n### " << n << " meshes (source: mesh " << S.source << "), tolerance " << tolerance << "%\n\n";
+  std::cout << "one face list (outputs read back from OFF): " << (one_face_list ? "yes" : "NO") << "; "
+            << S.output_faces << " faces, " << S.output_vertices << " vertices = "
+            << fmt(double(S.output_vertices) / double(largest), 2) << " x the largest input (" << largest
+            << "); two-way remeshing with mesh " << (S.source == 0 ? 1 : 0) << ": " << S.two_way_vertices
+            << " vertices; total " << fmt(S.seconds_total, 1) << " s\n\n";
+  std::cout << "| mesh | input vertices | Hausdorff % | flipped | splits for it | landmark error mean | max | "
+               "map s | fit s | verified |\n";
+  std::cout << "|---|---|---|---|---|---|---|---|---|---|\n";
+  for (std::size_t m = 0; m < n; ++m) {
+    if (m == S.source) {
+      const Remeshing_verification v = verify_compatible_remeshing(meshes[m], meshes[m], outs[m], outs[m], tolerance);
+      std::cout << "| " << m << " (source) | " << meshes[m].number_of_vertices() << " | " << fmt(v.hausdorff_source, 6)
+                << " | " << v.flipped_faces << " | - | - | - | - | - | " << (v.valid ? "yes" : "no") << " |\n";
+      continue;
+    }
+    const Remeshing_verification v = verify_compatible_remeshing(meshes[S.source], meshes[m], outs[S.source], outs[m], tolerance);
+    const double unit = std::sqrt(CGAL::Polygon_mesh_processing::area(meshes[m]));
+    const auto& cp = r.map(m);
+    double sum = 0, mx = 0;
+    for (const auto& row : landmarks) {
+      const Input_location l = cp.source_vertex_to_target_input(row[S.source]);
+      const std::array<double, 3> q = cp.input_point(Mesh_side::target, l);
+      const Point_3& t = meshes[m].point(Surface_mesh::Vertex_index(Surface_mesh::size_type(row[m])));
+      const double d = std::sqrt(CGAL::square(q[0] - t.x()) + CGAL::square(q[1] - t.y()) + CGAL::square(q[2] - t.z())) / unit;
+      sum += d, mx = std::max(mx, d);
+    }
+    std::cout << "| " << m << " | " << meshes[m].number_of_vertices() << " | " << fmt(v.hausdorff_target) << " | "
+              << v.flipped_faces << " | " << S.splits[m] << " | " << fmt(sum / double(landmarks.size()), 4) << " | "
+              << fmt(mx, 4) << " | " << fmt(S.seconds_map[m], 1) << " | " << fmt(S.seconds_fit[m], 1) << " | "
+              << (v.valid ? "yes" : "no: " + v.message) << " |\n";
+  }
+  std::cout << std::flush;
+}
+
+} // namespace
+
+int main(int argc, char** argv) try {
+  const fs::path dir = argc > 1 ? fs::path(argv[1]) : fs::path(CROSSPARAM_SHARED_DIR) / "bench_multi" / "fourleg5";
+  const double tolerance = argc > 2 ? std::stod(argv[2]) : 0.5;
+  if (!fs::exists(dir / "features.txt")) {
+    std::cout << "bench_multi: no case at " << dir << ", skipped\n";
+    return 0;
+  }
+  std::cout << "## N-way common connectivity: " << dir.filename().string() << "\n";
+  std::stringstream counts(argc > 3 ? argv[3] : "3,5");
+  for (std::string n; std::getline(counts, n, ',');) run(dir, std::stoul(n), tolerance);
+  return 0;
+} catch (const std::exception& e) {
+  std::cerr << "bench_multi: " << e.what() << "\n";
+  return 1;
+}

@@ -1,0 +1,241 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Transfer through the map (attribute_transfer.h, textured_obj.h), blends (morph.h, blending.h) and the N-way
+// common connectivity (multi_remeshing.h). Every check recomputes what it tests by another path than the code
+// under test.
+#include <crossparam/attribute_transfer.h>
+#include <crossparam/blending.h>
+#include <crossparam/compatible_remeshing.h>
+#include <crossparam/morph.h>
+#include <crossparam/multi_remeshing.h>
+#include <crossparam/remeshing_verification.h>
+#include <crossparam/textured_obj.h>
+#include <support/shapes.h>
+
+#include <CGAL/Polygon_mesh_processing/locate.h>
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
+#include <iostream>
+#include <filesystem>
+
+using namespace crossparam;
+using Map = Cross_parameterization<Surface_mesh, Surface_mesh>;
+using Remesher = Compatible_remesher<Surface_mesh, Surface_mesh>;
+namespace PMP = CGAL::Polygon_mesh_processing;
+
+namespace {
+
+/// Rounding allowance of a transferred linear field, relative to the mesh's size.
+constexpr double linear_field_tolerance = 1e-9;
+
+Vertex_data coordinates(const Surface_mesh& m) {
+  Vertex_data d;
+  for (auto v : m.vertices()) d.push_back({m.point(v).x(), m.point(v).y(), m.point(v).z()});
+  return d;
+}
+
+std::array<double, 3> barycentric(const Point_3& a, const Point_3& b, const Point_3& c, const Point_3& p) {
+  const auto v0 = b - a, v1 = c - a, v2 = p - a;
+  const double d00 = v0 * v0, d01 = v0 * v1, d11 = v1 * v1, d20 = v2 * v0, d21 = v2 * v1;
+  const double den = d00 * d11 - d01 * d01;
+  const double v = (d11 * d20 - d01 * d21) / den, w = (d00 * d21 - d01 * d20) / den;
+  return {1 - v - w, v, w};
+}
+
+} // namespace
+
+// A linear field (the source's own coordinates) arrives at every target vertex as F^-1 of the vertex,
+// evaluated here through the map's Face_location interface on the refined user meshes.
+TEST(Transfer, LinearFieldArrivesExactly) {
+  const Surface_mesh a0 = shapes::make_deformed_sphere(41, 700, true), b0 = shapes::make_deformed_sphere(42, 600, true);
+  const Feature_correspondence f = shapes::random_features(a0, b0, 8, 43, false);
+  Surface_mesh a = a0, b = b0;
+  const Map cp(a, b, f);
+  const Vertex_data at_target = transfer_vertex_data(cp, Mesh_side::source, coordinates(a0));
+  ASSERT_EQ(at_target.size(), b0.number_of_vertices());
+  double worst = 0;
+  for (std::size_t v = 0; v < at_target.size(); ++v) {
+    const auto loc = PMP::locate_vertex<double>(Surface_mesh::Vertex_index(Surface_mesh::size_type(v)), b);
+    const Point_3 p = PMP::construct_point(cp.to_source(loc), a);
+    for (int k = 0; k < 3; ++k) worst = std::max(worst, std::abs(at_target[v][std::size_t(k)] - p[k]));
+  }
+  EXPECT_LT(worst, linear_field_tolerance);
+  // The other way round: the target's coordinates at the source's vertices, F of each.
+  const Vertex_data at_source = transfer_vertex_data(cp, Mesh_side::target, coordinates(b0));
+  ASSERT_EQ(at_source.size(), a0.number_of_vertices());
+  worst = 0;
+  for (std::size_t v = 0; v < at_source.size(); ++v) {
+    const auto loc = PMP::locate_vertex<double>(Surface_mesh::Vertex_index(Surface_mesh::size_type(v)), a);
+    const Point_3 p = PMP::construct_point(cp.to_target(loc), b);
+    for (int k = 0; k < 3; ++k) worst = std::max(worst, std::abs(at_source[v][std::size_t(k)] - p[k]));
+  }
+  EXPECT_LT(worst, linear_field_tolerance);
+  EXPECT_THROW(transfer_vertex_data(cp, Mesh_side::source, Vertex_data(3, {1.0})), Input_error);
+  Vertex_data ragged = coordinates(a0);
+  ragged[5].push_back(1);
+  EXPECT_THROW(transfer_vertex_data(cp, Mesh_side::source, ragged), Input_error);
+}
+
+// Labels per patch (the base triangle of each source vertex): a target vertex well inside a base triangle takes
+// that triangle's label; a constant label stays constant everywhere.
+TEST(Transfer, PatchLabelsStayConstant) {
+  const Surface_mesh a0 = shapes::make_deformed_sphere(51, 1500, true), b0 = shapes::make_deformed_sphere(52, 1200, true);
+  const Feature_correspondence f = shapes::random_features(a0, b0, 8, 53, false);
+  Surface_mesh a = a0, b = b0;
+  const Map cp(a, b, f);
+  std::vector<long> labels(a0.number_of_vertices());
+  for (std::size_t v = 0; v < labels.size(); ++v) labels[v] = cp.base_location(Mesh_side::source, v).tri;
+  const std::vector<long> at_target = transfer_vertex_labels(cp, Mesh_side::source, labels);
+  // "Well inside": every barycentric coordinate of the vertex's base location above this.
+  constexpr double inner_margin = 0.2;
+  std::size_t inner = 0;
+  for (std::size_t v = 0; v < at_target.size(); ++v) {
+    const Base_location& l = cp.base_location(Mesh_side::target, v);
+    if (std::min({l.b[0], l.b[1], l.b[2]}) < inner_margin) continue;
+    ++inner;
+    EXPECT_EQ(at_target[v], l.tri) << "target vertex " << v;
+  }
+  EXPECT_GT(inner, 50u);
+  for (long x : transfer_vertex_labels(cp, Mesh_side::source, std::vector<long>(a0.number_of_vertices(), 7))) EXPECT_EQ(x, 7);
+  EXPECT_THROW(transfer_vertex_labels(cp, Mesh_side::target, std::vector<long>(2, 0)), Input_error);
+}
+
+// Texture coordinates with a seam at every face (each face its own chart): each target-shaped face carries the
+// interpolation of its source face's coordinates, recomputed here from the source-shaped positions.
+TEST(Transfer, TextureCoordinatesPerCorner) {
+  const Surface_mesh a0 = shapes::make_deformed_sphere(61, 600, true), b0 = shapes::make_deformed_sphere(62, 500, true);
+  const Feature_correspondence f = shapes::random_features(a0, b0, 8, 63, false);
+  Mesh_uvs uv;
+  std::vector<Point_3> pts;
+  for (auto v : a0.vertices()) pts.push_back(a0.point(v));
+  std::size_t fi = 0;
+  for (auto face : a0.faces()) {
+    std::array<std::size_t, 3> vs{}, ts{};
+    int k = 0;
+    for (auto v : CGAL::vertices_around_face(a0.halfedge(face), a0)) {
+      vs[std::size_t(k)] = std::size_t(v);
+      ts[std::size_t(k)] = uv.uvs.size();
+      // A chart per face: an offset per face on top of a linear function of the position.
+      uv.uvs.push_back({a0.point(v).x() + double(fi % 7), a0.point(v).y() - double(fi % 5)});
+      ++k;
+    }
+    uv.face_vertices.push_back(vs);
+    uv.face_uvs.push_back(ts);
+    ++fi;
+  }
+  Surface_mesh a = a0, b = b0;
+  const Map cp(a, b, f);
+  const Remesher r(cp, crossparam::parameters::tolerance(1.0));
+  const std::vector<Corner_uvs> out = transfer_corner_uvs(r.source_face_locations(), uv);
+  ASSERT_EQ(out.size(), r.faces().size());
+  double worst = 0;
+  for (std::size_t g = 0; g < out.size(); ++g) {
+    const std::size_t o = r.source_face_locations()[g].face;
+    const auto& fv = uv.face_vertices[o];
+    for (int c = 0; c < 3; ++c) {
+      const auto& q = r.source_points()[r.faces()[g][std::size_t(c)]];
+      const auto bc = barycentric(pts[fv[0]], pts[fv[1]], pts[fv[2]], Point_3(q[0], q[1], q[2]));
+      for (int d = 0; d < 2; ++d) {
+        double expect = 0;
+        for (int i = 0; i < 3; ++i) expect += bc[std::size_t(i)] * uv.uvs[uv.face_uvs[o][std::size_t(i)]][std::size_t(d)];
+        worst = std::max(worst, std::abs(expect - out[g][std::size_t(c)][std::size_t(d)]));
+      }
+    }
+  }
+  EXPECT_LT(worst, 1e-6);
+  // Round trip through the OBJ writer and reader.
+  const std::string path = (std::filesystem::temp_directory_path() / "crossparam_test_textured.obj").string();
+  write_textured_obj(path, r.target_points(), r.faces(), out, "texture.png");
+  const Textured_mesh back = read_textured_obj(path);
+  EXPECT_EQ(back.uv.face_vertices, r.faces());
+  EXPECT_EQ(back.points.size(), r.target_points().size());
+  EXPECT_EQ(std::filesystem::path(back.texture).filename().string(), "texture.png");
+  std::filesystem::remove(path);
+  std::filesystem::remove(std::filesystem::path(path).replace_extension(".mtl"));
+}
+
+// Blends: affine weights only, one per mesh; local weights one row per vertex; a region around a feature that
+// exists.
+TEST(Blend, ClearErrors) {
+  const std::vector<std::array<double, 3>> a{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  std::vector<std::array<double, 3>> b = a;
+  for (auto& p : b) p[0] += 2;
+  EXPECT_NO_THROW(blend({&a, &b}, {0.25, 0.75}));
+  EXPECT_THROW(blend({&a, &b}, {0.5, 0.6}), Input_error);
+  EXPECT_THROW(blend({&a, &b}, {1.0}), Input_error);
+  EXPECT_THROW(blend({&a, &b}, {0.2, 0.3, 0.5}), Input_error);
+  const std::vector<std::vector<double>> rows(a.size(), {0.5, 0.5});
+  const auto mid = local_blend({&a, &b}, rows);
+  EXPECT_DOUBLE_EQ(mid[1][0], 2.0);
+  EXPECT_THROW(local_blend({&a, &b}, std::vector<std::vector<double>>(3, {0.5, 0.5})), Input_error);
+  EXPECT_THROW(local_blend({&a, &b}, std::vector<std::vector<double>>(4, {0.5, 0.6})), Input_error);
+  EXPECT_THROW(local_blend({&a, &b}, std::vector<std::vector<double>>(4, {1.0})), Input_error);
+  const std::vector<std::array<std::size_t, 3>> faces{{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+  EXPECT_THROW(feature_region_weights(a, faces, {0, 1}, 2, 0.5, 0.1), Input_error);
+  EXPECT_THROW(region_weights(a, faces, 9, 0.5, 0.1), Input_error);
+  EXPECT_THROW(region_weights(a, faces, 0, -1, 0.1), Input_error);
+}
+
+// A region's weights: 1 at its centre, 0 far away, in [0, 1], falling with the distance.
+TEST(Blend, RegionWeights) {
+  const Surface_mesh s = shapes::make_deformed_sphere(71, 800, false);
+  std::vector<std::array<double, 3>> pts;
+  for (auto v : s.vertices()) pts.push_back({s.point(v).x(), s.point(v).y(), s.point(v).z()});
+  std::vector<std::array<std::size_t, 3>> faces;
+  for (auto f : s.faces()) {
+    std::array<std::size_t, 3> t{};
+    int k = 0;
+    for (auto v : CGAL::vertices_around_face(s.halfedge(f), s)) t[std::size_t(k++)] = std::size_t(v);
+    faces.push_back(t);
+  }
+  const std::vector<double> w = region_weights(pts, faces, 0, 0.3, 0.3);
+  EXPECT_EQ(w[0], 1.0);
+  std::size_t inside = 0, outside = 0;
+  for (double x : w) {
+    EXPECT_GE(x, 0.0);
+    EXPECT_LE(x, 1.0);
+    inside += x == 1.0, outside += x == 0.0;
+  }
+  EXPECT_GT(inside, 1u);
+  EXPECT_GT(outside, w.size() / 2);
+}
+
+// Three meshes to one connectivity: every output verified against its own input by the independent verifier
+// (one face list, Hausdorff within the tolerance, no flipped face), the source's vertices reproduced exactly.
+TEST(MultiRemesh, ThreeSpheres) {
+  const std::vector<Surface_mesh> meshes{shapes::make_deformed_sphere(81, 700, true), shapes::make_deformed_sphere(82, 600, true),
+                                         shapes::make_deformed_sphere(83, 900, false)};
+  const Feature_correspondence f1 = shapes::random_features(meshes[0], meshes[1], 8, 84, false);
+  const Feature_correspondence f2 = shapes::random_features(meshes[0], meshes[2], 8, 84, false);
+  Multi_feature_correspondence features;
+  for (std::size_t k = 0; k < f1.size(); ++k) {
+    ASSERT_EQ(f1[k].source, f2[k].source);
+    features.push_back({f1[k].source, f1[k].target, f2[k].target});
+  }
+  constexpr double tolerance = 1.0;
+  const Multi_remesher<Surface_mesh> r(meshes, features, crossparam::parameters::tolerance(tolerance, crossparam::parameters::progress(std::function<void(const std::string&)>([](const std::string& s) { if (std::getenv("CROSSPARAM_TEST_VERBOSE")) std::cerr << s << "\n"; }))));
+  ASSERT_EQ(r.number_of_meshes(), 3u);
+  Surface_mesh out_source;
+  r.copy_to(0, out_source);
+  for (std::size_t m = 1; m < 3; ++m) {
+    Surface_mesh out;
+    r.copy_to(m, out);
+    const Remeshing_verification check = verify_compatible_remeshing(meshes[0], meshes[m], out_source, out, tolerance);
+    EXPECT_TRUE(check.valid) << "mesh " << m << ": " << check.message;
+  }
+  for (auto v : meshes[0].vertices()) {
+    const auto& p = r.points(0)[std::size_t(v)];
+    EXPECT_EQ(Point_3(p[0], p[1], p[2]), meshes[0].point(v));
+  }
+  EXPECT_GE(r.points(0).size(), r.statistics().two_way_vertices);
+  // Another source: the finest mesh.
+  const Multi_remesher<Surface_mesh> r2(meshes, features, crossparam::parameters::tolerance(tolerance, crossparam::parameters::source_mesh(finest_mesh)));
+  EXPECT_EQ(r2.statistics().source, 2u);
+  EXPECT_THROW(Multi_remesher<Surface_mesh>({meshes[0]}, {}), Input_error);
+  Multi_feature_correspondence short_row = features;
+  short_row[3].pop_back();
+  EXPECT_THROW(Multi_remesher<Surface_mesh>(meshes, short_row), Input_error);
+}
