@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 #include <string_view>
 
@@ -34,7 +35,8 @@ const std::string fuzz_path = "fuzz-input";
 /// The feature file is read from disk (read_feature_pairs takes a path): one file per process, rewritten for
 /// every input.
 [[maybe_unused]] std::string feature_file() {
-  static const std::string path = "/tmp/crossparam-fuzz-features-" + std::to_string(::getpid()) + ".txt";
+  static const std::string path =
+      (std::filesystem::temp_directory_path() / ("crossparam-fuzz-features-" + std::to_string(::getpid()) + ".txt")).string();
   return path;
 }
 
