@@ -26,6 +26,7 @@
 #include <crossparam/internal/remeshing/pseudo_flips.h>
 #include <crossparam/internal/remeshing/refinement.h>
 #include <crossparam/internal/remeshing/remesh_state.h>
+#include <crossparam/internal/remeshing/self_intersections.h>
 #include <crossparam/internal/remeshing/target_untangling.h>
 
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
@@ -98,6 +99,9 @@ struct Remeshing_statistics {
   std::size_t untangled_folds = 0;   ///< folded faces that the untangling on the target removed
   std::size_t untangle_moves = 0;    ///< vertices of the target-shaped mesh it moved (off F, along the target)
   double untangle_max_move = 0;      ///< the farthest such move, percent of the target's bounding-box diagonal
+  std::size_t self_intersection_splits = 0; ///< splits of faces of M_st that intersected another face of it
+  std::size_t self_intersections = 0; ///< intersecting face pairs of the result away from the target's own
+  unsigned repair_iterations = 0;    ///< rounds of untangling, fold repair and self-intersection refinement
   unsigned smoothing_rounds = 0, refinement_rounds = 0;
   double tolerance = 0;              ///< ε, percent
   double max_error_initial = 0, l2_error_initial = 0; ///< e(v) of M_st right after the projection
@@ -285,30 +289,80 @@ private:
     stats_.seconds_flips = sec(tf, clock::now());
   }
 
-  /// Folds left (additions to the paper): untangled on the target, off F, which adds no vertex; where that
-  /// leaves folds, the untangling is undone, the fold repair refines around those folds in the target's
-  /// metric, and the untangling runs again.
+  /// Folds and self-intersections left (additions to the paper): folds are untangled on the target, off F,
+  /// which adds no vertex. Where that leaves folds or M_st intersects itself away from where the target does,
+  /// the untangling is undone, the fold repair refines around the folds left in the target's metric, the faces
+  /// that intersect are refined, and the untangling runs again; at most `max_repair_iterations` times.
   void untangle(State& s) {
+    // Rounds of untangling and repair: each refines only where the last one left a fold or an intersection.
+    constexpr unsigned max_repair_iterations = 8;
     const auto tu = clock::now();
     internal::Target_untangler untangler(s);
-    const State::Images before = s.images();
-    record(s, untangler.run());
-    if (s.n_flipped > 0) {
+    internal::Self_intersection_repair intersections(s);
+    double seconds_repair = 0;
+    for (unsigned iteration = 0;; ++iteration) {
+      const State::Images before = s.images();
+      record(s, untangler.run());
+      const auto pairs = intersections.new_pairs();
+      stats_.self_intersections = pairs.size();
+      stats_.repair_iterations = iteration;
+      if (!pairs.empty()) say("remesh: " + std::to_string(pairs.size()) + " intersecting face pairs");
+      if ((s.n_flipped == 0 && pairs.empty()) || iteration == max_repair_iterations) break;
+      // The faces that intersect, as vertex pairs (the fold repair's splits renumber faces).
+      const auto& m = s.mesh.m;
+      std::vector<std::array<WV, 3>> crossing;
+      for (const auto& p : pairs)
+        for (WF f : {p.first, p.second}) {
+          const WH h = m.halfedge(f);
+          crossing.push_back({m.source(h), m.target(h), m.target(m.next(h))});
+        }
       const std::vector<char> hard = s.corners_of_folded_faces();
+      const bool folds = s.n_flipped > 0;
       s.restore(before);
       const auto tr = clock::now();
-      const internal::Fold_repair_result repaired = internal::repair_folds(s, &hard);
-      stats_.fold_repair_splits = repaired.splits;
-      stats_.fold_repairs_kept = repaired.kept;
-      stats_.fold_repairs_undone = repaired.undone;
-      s.measure();
-      stats_.seconds_fold_repair = sec(tr, clock::now());
-      say("remesh: fold repair: " + std::to_string(stats_.fold_repair_splits) + " splits (" +
-          std::to_string(stats_.fold_repairs_kept) + " repairs kept, " + std::to_string(stats_.fold_repairs_undone) +
-          " undone), " + std::to_string(s.n_flipped) + " flipped faces");
-      record(s, untangler.run());
+      std::size_t splits = 0;
+      if (folds) {
+        const internal::Fold_repair_result repaired = internal::repair_folds(s, &hard);
+        stats_.fold_repair_splits += repaired.splits;
+        stats_.fold_repairs_kept += repaired.kept;
+        stats_.fold_repairs_undone += repaired.undone;
+        splits += repaired.splits;
+        s.measure();
+        say("remesh: fold repair: " + std::to_string(repaired.splits) + " splits (" + std::to_string(repaired.kept) +
+            " repairs kept, " + std::to_string(repaired.undone) + " undone), " + std::to_string(s.n_flipped) +
+            " flipped faces");
+      }
+      if (!crossing.empty()) {
+        std::vector<std::pair<WF, WF>> faces_left;
+        for (std::size_t i = 0; i + 1 < crossing.size(); i += 2) {
+          const WF f = face_of(s, crossing[i]), g = face_of(s, crossing[i + 1]);
+          if (f != WF() || g != WF()) faces_left.push_back({f != WF() ? f : g, g != WF() ? g : f});
+        }
+        const std::size_t refined = intersections.refine(faces_left);
+        stats_.self_intersection_splits += refined;
+        splits += refined;
+        s.measure();
+        say("remesh: self-intersections: " + std::to_string(refined) + " splits");
+      }
+      seconds_repair += sec(tr, clock::now());
+      if (splits == 0) {
+        record(s, untangler.run());
+        stats_.self_intersections = intersections.new_pairs().size();
+        break;
+      }
     }
-    stats_.seconds_untangle = sec(tu, clock::now()) - stats_.seconds_fold_repair;
+    stats_.seconds_fold_repair = seconds_repair;
+    stats_.seconds_untangle = sec(tu, clock::now()) - seconds_repair;
+  }
+  using WV = internal::WV;
+  using WF = internal::WF;
+  using WH = internal::WH;
+  /// The face of the remeshed mesh with corners `c` (in this cyclic order), or a null face if it was split.
+  static WF face_of(const State& s, const std::array<WV, 3>& c) {
+    const auto& m = s.mesh.m;
+    const WH h = m.halfedge(c[0], c[1]);
+    if (h == WH() || m.is_border(h) || m.target(m.next(h)) != c[2]) return WF();
+    return m.face(h);
   }
   void record(const State& s, const internal::Untangle_result& u) {
     stats_.untangled_folds = u.folds_removed;

@@ -28,7 +28,7 @@ inline int folds_around(const Remesh_state& s, WV v, const Corner& c) {
   int n = 0;
   for (WH h : CGAL::halfedges_around_target(m.halfedge(v), m)) {
     WV a = m.target(m.next(h)), b = m.target(m.next(m.next(h)));
-    n += s.flipped(c.pos, c.img.face, s.pos[a], s.img[a].face, s.pos[b], s.img[b].face);
+    n += s.flipped(c.pos, s.pos[a], s.pos[b]);
   }
   return n;
 }
@@ -155,7 +155,7 @@ inline void repair_region(Remesh_state& s, const std::vector<WF>& seed, bool sec
 /// the faces the repair made or changed, at most 200 splits. A repair is kept only if it leaves fewer folded
 /// faces than before; otherwise the mesh and the maps are restored. Splits lie on source edges as
 /// everywhere else (the source geometry is kept) and are made only if every new face is positively
-/// oriented over the base mesh (exact test). The folds are counted with the strict test of Remesh_state::flipped() (`repairing`).
+/// oriented over the base mesh (exact test). The folds are counted with the verifier's rule (Remesh_state::flipped()).
 /// Passes alternate two modes (slack 1, LEPP only; slack 2, the face's own edges too) until a pass of each
 /// mode in a row keeps nothing, at most six passes. With `near` (a flag per vertex), only the folded faces
 /// with a flagged corner or a corner the repair made are repaired.
@@ -204,7 +204,7 @@ inline Fold_repair_result repair_folds(Remesh_state& s, const std::vector<char>*
 
 /// A refinement split refused because it would fold M_st, made anyway as a transaction: `step` (splits with
 /// `repairing` set, allowed one more fold), then the fold repair of repair_region() around the new vertex,
-/// at most 50 splits; kept only if M_st has no more folded faces than before (strict test), undone
+/// at most 50 splits; kept only if M_st has no more folded faces than before, undone
 /// otherwise. Returns whether it was kept (false also where `step` itself is refused: nothing changed).
 template <class Step>
 bool with_repair(Remesh_state& s, Step step) {

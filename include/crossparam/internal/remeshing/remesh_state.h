@@ -12,6 +12,10 @@
 #include <crossparam/cross_parameterization.h>
 #include <crossparam/internal/parallel.h>
 
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -71,6 +75,9 @@ struct Remesh_outputs {
   std::vector<double> vertex_error;                 ///< the smoothed e(v) where each vertex lands, percent
 };
 
+/// An AABB tree of the faces of the target's working mesh.
+using Target_tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, CGAL::AABB_face_graph_triangle_primitive<Work_mesh>>>;
+
 /// The remeshed mesh and its image on the target. Not copyable: the parameterization points to the mesh.
 class Remesh_state {
 public:
@@ -78,9 +85,12 @@ public:
   /// diagonal), `n_threads` the threads of measure().
   Remesh_state(const Map_view& map, double tolerance, unsigned n_threads)
       : target(map.target), target_param(map.target_parameterization), target_locator(map.target_locator),
-        target_to_input(map.target_to_input), mesh(map.source), param(map.source_parameterization), eps(tolerance),
+        target_to_input(map.target_to_input),
+        target_tree(CGAL::faces(map.target.m).first, CGAL::faces(map.target.m).second, map.target.m), mesh(map.source), param(map.source_parameterization), eps(tolerance),
         threads(n_threads) {
     param.mesh = &mesh;
+    target_tree.build();
+    target_tree.accelerate_distance_queries(); // built now: measure() queries it from several threads
   }
   Remesh_state(const Remesh_state&) = delete;
   Remesh_state& operator=(const Remesh_state&) = delete;
@@ -90,6 +100,7 @@ public:
   const Base_parameterization& target_param;
   const Base_locator& target_locator;
   const std::function<Input_location(const Work_location&)> target_to_input;
+  Target_tree target_tree; ///< the target's faces, for the fold test (closest points)
 
   // The remeshed mesh and M_st.
   Layout_mesh mesh;            ///< the source-shaped mesh M_s (splits only: the source geometry is kept)
@@ -114,7 +125,7 @@ public:
   // Bookkeeping of the steps.
   std::vector<char> dirty;            ///< per source face: changed by a split of the current round
   std::vector<unsigned char> refused; ///< per target vertex: rounds its insertion was refused (up to 2)
-  // State of the fold repair: whether it runs (the strict fold test, splits recorded), the folds a split may
+  // State of the fold repair: whether it runs (splits recorded), the folds a split may
   // add, the change in folded faces of the last acceptable() test and of the current repair, and the vertices
   // the current repair made.
   bool repairing = false;
@@ -131,15 +142,15 @@ public:
     WH h = m.halfedge(f);
     return triangle_normal(m.point(m.source(h)), m.point(m.target(h)), m.point(m.target(m.next(h))));
   }
-  /// Whether triangle (a, b, c) of M_st, its corners on target faces fa, fb, fc, is flipped: its normal opposes
-  /// the target's at every corner (a face across a sharp crease agrees with one side of it: a chord). During
-  /// the fold repair (`repairing`), a corner on an edge or at a vertex of the target counts as opposing if any
-  /// target face through it does, as an independent check with closest points may pick any of them.
-  bool flipped(const Point_3& a, WF fa, const Point_3& b, WF fb, const Point_3& c,
-               WF fc) const {
+  /// Whether triangle (a, b, c) of M_st is flipped: its normal opposes the target's at the point of the target
+  /// nearest its centroid (the verifier's rule, verify_compatible_remeshing). Where that point lies on an edge or
+  /// at a vertex of the target, the verifier takes whichever face through it its closest-point query returns,
+  /// so the point counts as opposing if any face through it opposes (opposes()). A degenerate triangle has no
+  /// normal and is not flipped.
+  bool flipped(const Point_3& a, const Point_3& b, const Point_3& c) const {
     const Kernel::Vector_3 n = triangle_normal(a, b, c);
-    if (repairing) return opposes(n, a, fa) && opposes(n, b, fb) && opposes(n, c, fc);
-    return n * target_normal(fa) < 0 && n * target_normal(fb) < 0 && n * target_normal(fc) < 0;
+    const auto nearest = target_tree.closest_point_and_primitive(CGAL::centroid(a, b, c));
+    return opposes(n, nearest.first, nearest.second);
   }
   /// Whether normal n opposes the target's normal at point p of target face f, or at another target face
   /// that p lies on (p at a corner or on an edge of f, to within 1e-9 of the unit diagonal).
@@ -165,7 +176,7 @@ public:
     const auto& m = mesh.m;
     const WH h = m.halfedge(f);
     const WV x = m.source(h), y = m.target(h), z = m.target(m.next(h));
-    return flipped(pos[x], img[x].face, pos[y], img[y].face, pos[z], img[z].face);
+    return flipped(pos[x], pos[y], pos[z]);
   }
   double target_field(const std::vector<double>& f, const Work_location& l) const {
     const auto& m = target.m;
@@ -182,8 +193,7 @@ public:
     for (WH h : CGAL::halfedges_around_target(m.halfedge(v), m)) {
       if (m.is_border(h)) continue;
       WV a = m.target(m.next(h)), b = m.target(m.next(m.next(h)));
-      if (!flipped(pos[v], img[v].face, pos[a], img[a].face, pos[b], img[b].face) &&
-          flipped(pv, lv.face, pos[a], img[a].face, pos[b], img[b].face))
+      if (flipped(pv, pos[a], pos[b]) && !flipped(pos[v], pos[a], pos[b]))
         return false;
     }
     img[v] = lv; // the move is accepted: keep M_st current for the next vertices
@@ -282,8 +292,8 @@ public:
     });
     max_chord = 0;
     for (double c : edge_chord) max_chord = std::max(max_chord, c);
-    // Per face of M_st: the chord deviation at the centroid (reported), and whether the face is flipped: its
-    // normal opposes the target's under each corner and under the centroid.
+    // Per face of M_st: the chord deviation at the centroid (reported), and whether the face is flipped
+    // (flipped(): the verifier's rule).
     face_chord.assign(nf, 0.0);
     mc.centroid.resize(nf);
     folded.assign(nf, 0);
@@ -298,8 +308,7 @@ public:
         check_reused(mc.centroid[f]);
       }
       face_chord[f] = std::sqrt(CGAL::squared_distance(CGAL::centroid(a, b, c), mc.centroid[f].pos));
-      folded[i] = flipped(a, img[x].face, b, img[y].face, c, img[z].face) &&
-                  triangle_normal(a, b, c) * target_normal(mc.centroid[f].img.face) < 0;
+      folded[i] = flipped(a, b, c);
     });
     n_flipped = 0;
     for (std::size_t i = 0; i < nf; ++i) {
@@ -341,7 +350,7 @@ public:
     for (const Face_plan& f : after)
       if (B.triangle_orientation(f[0]->loc, f[1]->loc, f[2]->loc) != CGAL::POSITIVE) return false;
     auto folds = [&](const Face_plan& f) {
-      return int(flipped(f[0]->pos, f[0]->img.face, f[1]->pos, f[1]->img.face, f[2]->pos, f[2]->img.face));
+      return int(flipped(f[0]->pos, f[1]->pos, f[2]->pos));
     };
     int nb = 0, na = 0;
     for (const Face_plan& f : before) nb += folds(f);

@@ -35,12 +35,7 @@ struct Untangle_result {
 /// The untangling of M_st on the target, with the target's AABB tree built once for all its runs.
 class Target_untangler {
 public:
-  using Target_tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, CGAL::AABB_face_graph_triangle_primitive<Work_mesh>>>;
-
-  explicit Target_untangler(Remesh_state& state)
-      : s(state), tree(CGAL::faces(state.target.m).first, CGAL::faces(state.target.m).second, state.target.m) {
-    tree.accelerate_distance_queries();
-  }
+  explicit Target_untangler(Remesh_state& state) : s(state), tree(state.target_tree) {}
 
   /// Untangles the folds of M_st along the target. Every face is tested by the verifier's rule
   /// (flipped_on_target()), which also sets `s.folded` and `s.n_flipped`. Where F is this anisotropic, no M_st that is F of a one-to-one M_s avoids the
@@ -73,21 +68,8 @@ public:
   }
 
 private:
-  /// Whether face f of M_st is flipped by the rule of the independent verifier (internal::flipped_against_nearest:
-  /// its normal opposes the target's at the points of the target nearest its centroid and each corner), taken
-  /// strictly: where such a point lies on an edge or at a vertex of the target, the verifier may take any face
-  /// through it, so the point counts as opposing if one of them opposes (Remesh_state::opposes()).
-  bool flipped_on_target(WF f) const {
-    const auto& m = s.mesh.m;
-    const WH h = m.halfedge(f);
-    const Point_3 &a = s.pos[m.source(h)], &b = s.pos[m.target(h)], &c = s.pos[m.target(m.next(h))];
-    const Kernel::Vector_3 n = triangle_normal(a, b, c);
-    for (const Point_3& p : {CGAL::centroid(a, b, c), a, b, c}) {
-      const auto nearest = tree.closest_point_and_primitive(p);
-      if (!s.opposes(n, nearest.first, nearest.second)) return false;
-    }
-    return true;
-  }
+  /// Whether face f of M_st is flipped by the rule of the independent verifier (Remesh_state::flipped()).
+  bool flipped_on_target(WF f) const { return s.face_folded(f); }
 
   /// untangle_ring() for k = 1 ... 8 until a ring is kept (1) or too curved (-1); 0 if none is kept.
   int untangle_in_rings(WF f, std::vector<char>& moved) {
@@ -198,6 +180,7 @@ private:
     const std::vector<Point_3> pos_before = s.pos;
     const std::vector<char> moved_before = moved;
     const double max_move_before = max_move_;
+    const std::size_t crossings_before = crossings(region);
     if (untangle_in_chart(region, to_chart, from_chart, true, moved) <= 0) return 0;
     for (WF f : region)
       if (flipped_on_target(f)) untangle_in_rings(f, moved);
@@ -208,6 +191,10 @@ private:
             s.img = img_before, s.pos = pos_before, moved = moved_before, max_move_ = max_move_before;
             return 0;
           }
+    if (crossings(region) > crossings_before) {
+      s.img = img_before, s.pos = pos_before, moved = moved_before, max_move_ = max_move_before;
+      return 0;
+    }
     return 1;
   }
 
@@ -269,6 +256,7 @@ private:
     }
     Planar_untangler untangler(xy, is_free, std::move(tris));
     if (!(untangler.run(0.3 * side) > 0) && !relayout) return 0;
+    const std::size_t crossings_before = relayout ? 0 : crossings(region);
     std::vector<std::pair<WV, Corner>> old;
     auto restore = [&] {
       for (const auto& o : old) s.img[o.first] = o.second.img, s.pos[o.first] = o.second.pos;
@@ -289,11 +277,42 @@ private:
         if (tree.squared_distance(p) > bound2) return restore(), 0;
       if (!relayout && moves(corners(f)) && flipped_on_target(f)) return restore(), 0;
     }
+    if (!relayout && crossings(region) > crossings_before) return restore(), 0;
     for (const auto& o : old) {
       moved[o.first] = 1;
       max_move_ = std::max(max_move_, 100 * std::sqrt(CGAL::squared_distance(o.second.pos, s.pos[o.first])));
     }
     return 1;
+  }
+  /// Pairs of faces of M_st that share no vertex and intersect, among the faces of `region` and those around
+  /// its vertices: a local count of self-intersections, so that an untangling that makes M_st cross itself
+  /// is not kept.
+  std::size_t crossings(const std::set<WF>& region) const {
+    const auto& m = s.mesh.m;
+    std::set<WF> near;
+    for (WF f : region)
+      for (WV v : CGAL::vertices_around_face(m.halfedge(f), m))
+        for (WF g : CGAL::faces_around_target(m.halfedge(v), m))
+          if (g != WF()) near.insert(g);
+    std::vector<std::array<WV, 3>> corner;
+    std::vector<Kernel::Triangle_3> tri;
+    std::vector<CGAL::Bbox_3> box;
+    for (WF f : near) {
+      const WH h = m.halfedge(f);
+      corner.push_back({m.source(h), m.target(h), m.target(m.next(h))});
+      tri.emplace_back(s.pos[corner.back()[0]], s.pos[corner.back()[1]], s.pos[corner.back()[2]]);
+      box.push_back(tri.back().bbox());
+    }
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < tri.size(); ++i)
+      for (std::size_t j = i + 1; j < tri.size(); ++j) {
+        if (!CGAL::do_overlap(box[i], box[j])) continue;
+        bool shared = false;
+        for (WV a : corner[i])
+          for (WV b : corner[j]) shared = shared || a == b;
+        if (!shared && !tri[i].is_degenerate() && !tri[j].is_degenerate() && CGAL::do_intersect(tri[i], tri[j])) ++n;
+      }
+    return n;
   }
   static Eigen::Matrix2d edge_matrix_of(const std::vector<Eigen::Vector2d>& xy, const std::array<int, 3>& c) {
     return edge_matrix(xy[c[0]], xy[c[1]], xy[c[2]]);
@@ -314,7 +333,7 @@ private:
   }
 
   Remesh_state& s;
-  Target_tree tree;     ///< the target's faces
+  const Target_tree& tree; ///< the target's faces
   double max_move_ = 0; ///< the farthest move of this run (percent of the target's diagonal)
 };
 
