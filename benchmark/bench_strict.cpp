@@ -62,6 +62,7 @@ int main(int argc, char** argv) {
                   v.self_intersections_output, v.self_intersections_target, map_seconds, remesh_seconds, sec(tv),
                   v.valid ? "yes" : "NO");
       std::fflush(stdout);
+      if (!v.valid) std::fprintf(stderr, "%s at %g%%: %s\n", c.name.c_str(), tol, v.message.c_str());
     }
   }
   return 0;

@@ -34,6 +34,7 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -161,8 +162,11 @@ public:
 
     // Working coordinates have a unit bounding-box diagonal: ε in percent is ε / 100 there.
     internal::Remesh_state s(internal::map_view(cp), stats_.tolerance / 100.0, threads);
+    s.corner_rule = true;                            // the weaker fold test while smoothing and refining
     project(s, undo);                                // M_st, the source's connectivity on the target (§5.1)
     smooth_and_refine(s, weights, rule, max_rounds); // §5.2-5.3
+    s.corner_rule = false;
+    s.measure();                                     // the folds by the verifier's rule from here on
     if (max_dev < 180) pseudo_flip(s, max_dev);      // §5.4
     untangle(s);                                     // folds left (additions to the paper)
     certify(s);                                      // the parameterization is still one-to-one
@@ -292,7 +296,10 @@ private:
   /// Folds and self-intersections left (additions to the paper): folds are untangled on the target, off F,
   /// which adds no vertex. Where that leaves folds or M_st intersects itself away from where the target does,
   /// the untangling is undone, the fold repair refines around the folds left in the target's metric, the faces
-  /// that intersect are refined, and the untangling runs again; at most `max_repair_iterations` times.
+  /// that intersect are refined, and the untangling runs again; at most `max_repair_iterations` times. A round
+  /// is kept only if it leaves fewer flipped faces, or as many and fewer intersecting pairs; otherwise the
+  /// result of the round before is restored and the repair stops (where the intersection is a crossing of two
+  /// sheets of M_st, not a chord too coarse for a thin part, refining adds pairs instead of removing them).
   void untangle(State& s) {
     // Rounds of untangling and repair: each refines only where the last one left a fold or an intersection.
     constexpr unsigned max_repair_iterations = 8;
@@ -300,13 +307,27 @@ private:
     internal::Target_untangler untangler(s);
     internal::Self_intersection_repair intersections(s);
     double seconds_repair = 0;
+    std::optional<State::Checkpoint> best_mesh; // the best round so far: its mesh and M_st
+    State::Images best_images;
+    Remeshing_statistics best_stats;
+    std::pair<std::size_t, std::size_t> best_score;
     for (unsigned iteration = 0;; ++iteration) {
       const State::Images before = s.images();
       record(s, untangler.run());
       const auto pairs = intersections.new_pairs();
+      if (!pairs.empty()) say("remesh: " + std::to_string(pairs.size()) + " intersecting face pairs");
+      const std::pair<std::size_t, std::size_t> score{s.n_flipped, pairs.size()};
+      if (best_mesh && !(score < best_score)) {
+        s.rollback(*best_mesh);
+        s.measure();
+        s.restore(best_images);
+        stats_ = best_stats;
+        say("remesh: the last repair round did not help: undone");
+        break;
+      }
       stats_.self_intersections = pairs.size();
       stats_.repair_iterations = iteration;
-      if (!pairs.empty()) say("remesh: " + std::to_string(pairs.size()) + " intersecting face pairs");
+      best_mesh = s.checkpoint(), best_images = s.images(), best_score = score, best_stats = stats_;
       if ((s.n_flipped == 0 && pairs.empty()) || iteration == max_repair_iterations) break;
       // The faces that intersect, as vertex pairs (the fold repair's splits renumber faces).
       const auto& m = s.mesh.m;
@@ -346,8 +367,7 @@ private:
       }
       seconds_repair += sec(tr, clock::now());
       if (splits == 0) {
-        record(s, untangler.run());
-        stats_.self_intersections = intersections.new_pairs().size();
+        s.restore(best_images);
         break;
       }
     }

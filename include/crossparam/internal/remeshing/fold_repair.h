@@ -28,7 +28,7 @@ inline int folds_around(const Remesh_state& s, WV v, const Corner& c) {
   int n = 0;
   for (WH h : CGAL::halfedges_around_target(m.halfedge(v), m)) {
     WV a = m.target(m.next(h)), b = m.target(m.next(m.next(h)));
-    n += s.flipped(c.pos, s.pos[a], s.pos[b]);
+    n += s.flipped(c.pos, c.img.face, s.pos[a], s.img[a].face, s.pos[b], s.img[b].face);
   }
   return n;
 }

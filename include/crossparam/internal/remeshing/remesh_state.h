@@ -129,6 +129,7 @@ public:
   // add, the change in folded faces of the last acceptable() test and of the current repair, and the vertices
   // the current repair made.
   bool repairing = false;
+  bool corner_rule = false; ///< flipped() by the weaker corner test (see there)
   int fold_slack = 0;
   mutable int fold_change = 0;
   int fold_total = 0;
@@ -147,8 +148,14 @@ public:
   /// at a vertex of the target, the verifier takes whichever face through it its closest-point query returns,
   /// so the point counts as opposing if any face through it opposes (opposes()). A degenerate triangle has no
   /// normal and is not flipped.
-  bool flipped(const Point_3& a, const Point_3& b, const Point_3& c) const {
+  ///
+  /// With `corner_rule` (during the smoothing and refinement of §5.2-5.3), a weaker test decides instead: the
+  /// normal opposes the target's under each corner, on the target faces fa, fb, fc where the corners land.
+  /// The smoothing and the refinement need room to move and split through regions that the final steps
+  /// untangle; under the verifier's rule they refuse so much that the error stays high.
+  bool flipped(const Point_3& a, WF fa, const Point_3& b, WF fb, const Point_3& c, WF fc) const {
     const Kernel::Vector_3 n = triangle_normal(a, b, c);
+    if (corner_rule) return n * target_normal(fa) < 0 && n * target_normal(fb) < 0 && n * target_normal(fc) < 0;
     const auto nearest = target_tree.closest_point_and_primitive(CGAL::centroid(a, b, c));
     return opposes(n, nearest.first, nearest.second);
   }
@@ -176,7 +183,7 @@ public:
     const auto& m = mesh.m;
     const WH h = m.halfedge(f);
     const WV x = m.source(h), y = m.target(h), z = m.target(m.next(h));
-    return flipped(pos[x], pos[y], pos[z]);
+    return flipped(pos[x], img[x].face, pos[y], img[y].face, pos[z], img[z].face);
   }
   double target_field(const std::vector<double>& f, const Work_location& l) const {
     const auto& m = target.m;
@@ -193,7 +200,8 @@ public:
     for (WH h : CGAL::halfedges_around_target(m.halfedge(v), m)) {
       if (m.is_border(h)) continue;
       WV a = m.target(m.next(h)), b = m.target(m.next(m.next(h)));
-      if (flipped(pv, pos[a], pos[b]) && !flipped(pos[v], pos[a], pos[b]))
+      if (flipped(pv, lv.face, pos[a], img[a].face, pos[b], img[b].face) &&
+          !flipped(pos[v], img[v].face, pos[a], img[a].face, pos[b], img[b].face))
         return false;
     }
     img[v] = lv; // the move is accepted: keep M_st current for the next vertices
@@ -293,7 +301,7 @@ public:
     max_chord = 0;
     for (double c : edge_chord) max_chord = std::max(max_chord, c);
     // Per face of M_st: the chord deviation at the centroid (reported), and whether the face is flipped
-    // (flipped(): the verifier's rule).
+    // (flipped(); with `corner_rule`, also opposing the target under the image of its centroid).
     face_chord.assign(nf, 0.0);
     mc.centroid.resize(nf);
     folded.assign(nf, 0);
@@ -308,7 +316,8 @@ public:
         check_reused(mc.centroid[f]);
       }
       face_chord[f] = std::sqrt(CGAL::squared_distance(CGAL::centroid(a, b, c), mc.centroid[f].pos));
-      folded[i] = flipped(a, b, c);
+      folded[i] = flipped(a, img[x].face, b, img[y].face, c, img[z].face) &&
+                  (!corner_rule || triangle_normal(a, b, c) * target_normal(mc.centroid[f].img.face) < 0);
     });
     n_flipped = 0;
     for (std::size_t i = 0; i < nf; ++i) {
@@ -350,7 +359,7 @@ public:
     for (const Face_plan& f : after)
       if (B.triangle_orientation(f[0]->loc, f[1]->loc, f[2]->loc) != CGAL::POSITIVE) return false;
     auto folds = [&](const Face_plan& f) {
-      return int(flipped(f[0]->pos, f[1]->pos, f[2]->pos));
+      return int(flipped(f[0]->pos, f[0]->img.face, f[1]->pos, f[1]->img.face, f[2]->pos, f[2]->img.face));
     };
     int nb = 0, na = 0;
     for (const Face_plan& f : before) nb += folds(f);
