@@ -247,6 +247,32 @@ if [ -d "$shared/bench/wolf0_wolf2" ]; then
   else
     bad "remesh on wolf0_wolf2 failed"
   fi
+  # The same pair at the ends of the readers' range: a valid result in the user's units, the same size up to the
+  # decisions that the rounding of the scaled coordinates can tip (within 2 % of the vertices), then a morph.
+  nref=$(sed -n 2p "$work/wolfremesh/target_compatible.off" | awk '{print $1}')
+  for factor in 1e-150 1e90; do
+    for m in source target; do
+      # OFF: the header, the counts, then (blank lines skipped) one vertex per line.
+      awk -v f="$factor" 'NF == 0 {next} h < 2 {if (h == 1) n = $1; ++h; print; next}
+        k < n {printf "%.17g %.17g %.17g\n", $1*f, $2*f, $3*f; ++k; next} {print}' "$b/$m.off" >"$work/wolf_$m.off"
+    done
+    if "$cli" remesh "$work/wolf_source.off" "$work/wolf_target.off" --features "$b/features.txt" -o "$work/wolf_$factor" --quiet; then
+      grep -q '"verification": {"valid": true, "compatible": true' "$work/wolf_$factor/report.json" || bad "remesh at $factor: not valid"
+      n=$(sed -n 2p "$work/wolf_$factor/target_compatible.off" | awk '{print $1}')
+      awk -v a="$n" -v b="$nref" 'BEGIN {d = a - b; if (d < 0) d = -d; exit !(d <= 0.02 * b)}' || bad "remesh at $factor: $n vertices, $nref at scale 1"
+      # Coordinates in the user's units: the largest magnitude is that of the scaled input, up to the shape change.
+      awk -v f="$factor" -v n="$n" 'NR>=3 && NR<3+n {for (i = 1; i <= 3; ++i) {x = $i < 0 ? -$i : $i; if (x > m) m = x}} END {r = m / f; exit !(r > 10 && r < 1000)}' \
+        "$work/wolf_$factor/target_compatible.off" || bad "remesh at $factor: outputs not in the user's units"
+      if "$cli" morph "$work/wolf_$factor/source_compatible.off" "$work/wolf_$factor/target_compatible.off" --frames 3 -o "$work/wolf_morph_$factor" --quiet; then
+        ! grep -qiE 'nan|inf' "$work/wolf_morph_$factor"/*.off || bad "morph at $factor: non-finite coordinates"
+        ok
+      else
+        bad "morph at $factor failed"
+      fi
+    else
+      bad "remesh of wolf0_wolf2 at $factor failed (exit $?)"
+    fi
+  done
 else
   echo "shared data not found at $shared: skipping the bench case"
 fi

@@ -4,6 +4,7 @@
 // time budget (time_limit, best_effort, Time_limit_error) and a feature file with a byte order mark.
 #include <crossparam/compatible_remeshing.h>
 #include <crossparam/io.h>
+#include <crossparam/morph.h>
 #include <crossparam/remeshing_verification.h>
 #include <crossparam/scaling.h>
 #include <support/shapes.h>
@@ -111,6 +112,56 @@ TEST(Scale, SameFiguresAtEveryScale) {
     expect_same(g.l2_error, ref.l2_error, "L2 error");
     expect_same(g.hausdorff, ref.hausdorff, "Hausdorff distance");
     expect_same(g.angular, ref.angular, "angular distortion");
+  }
+}
+
+// The library called directly, the caller rescaling nothing: Cross_parameterization and Compatible_remesher work
+// on copies with a unit bounding-box diagonal and give their outputs back in the caller's units, so the pair at
+// 1e-150 ... 1e90 gives the figures of the pair at its own scale, and the outputs scale with the inputs.
+TEST(Scale, LibraryWithoutRescalingByTheCaller) {
+  const Surface_mesh a = shapes::make_deformed_sphere(31, 500, true), b = shapes::make_deformed_sphere(32, 450, true);
+  const Feature_correspondence f = shapes::random_features(a, b, 6, 33, false);
+  const Figures ref = run_pipeline(a, b, f);
+  EXPECT_TRUE(ref.certified);
+  for (double factor : {1e-150, 1e-100, 1e-40, 1e40, 1e90}) {
+    SCOPED_TRACE("factor " + std::to_string(factor));
+    const Surface_mesh sa = scaled(a, factor), sb = scaled(b, factor);
+    const Figures g = run_pipeline(sa, sb, f);
+    EXPECT_EQ(g.valid, ref.valid);
+    EXPECT_TRUE(g.certified);
+    EXPECT_EQ(g.output_vertices, ref.output_vertices);
+    EXPECT_EQ(g.flipped, ref.flipped);
+    expect_same(g.max_error, ref.max_error, "max error");
+    expect_same(g.l2_error, ref.l2_error, "L2 error");
+    expect_same(g.hausdorff, ref.hausdorff, "Hausdorff distance");
+    expect_same(g.hausdorff_source, ref.hausdorff_source, "Hausdorff distance to the source");
+    expect_same(g.angular, ref.angular, "angular distortion");
+
+    // The outputs are in the caller's units: every point of both outputs is the reference's times the factor, up
+    // to rounding, and finite; so are the map's images of the source vertices and a morph frame.
+    Surface_mesh s = sa, t = sb, s_ref = a, t_ref = b;
+    Map cp(s, t, f), cp_ref(s_ref, t_ref, f);
+    const Remesher r(cp), r_ref(cp_ref);
+    ASSERT_EQ(r.target_points().size(), r_ref.target_points().size());
+    const CGAL::Bbox_3 box = CGAL::Polygon_mesh_processing::bbox(b);
+    const double diag = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
+                                  CGAL::square(box.zmax() - box.zmin()));
+    double worst = 0;
+    for (const auto* pts : {&r.target_points(), &r.source_points()}) {
+      const auto& ref_pts = pts == &r.target_points() ? r_ref.target_points() : r_ref.source_points();
+      for (std::size_t i = 0; i < pts->size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+          ASSERT_TRUE(std::isfinite((*pts)[i][c]));
+          worst = std::max(worst, std::abs((*pts)[i][c] / factor - ref_pts[i][c]));
+        }
+    }
+    EXPECT_LT(worst, 1e-9 * diag) << "outputs not in the caller's units";
+    for (std::size_t v = 0; v < cp.input_vertices(Mesh_side::source); ++v) {
+      const std::array<double, 3> p = cp.input_point(Mesh_side::target, cp.source_vertex_to_target_input(v));
+      ASSERT_TRUE(std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]));
+    }
+    for (const auto& p : morph(r.source_points(), r.target_points(), 0.5))
+      ASSERT_TRUE(std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]));
   }
 }
 
