@@ -23,6 +23,7 @@
 #include <crossparam/cross_parameterization.h>
 #include <crossparam/internal/parallel.h>
 #include <crossparam/internal/remeshing/fold_repair.h>
+#include <crossparam/internal/remeshing/gap_refinement.h>
 #include <crossparam/internal/remeshing/pseudo_flips.h>
 #include <crossparam/internal/remeshing/refinement.h>
 #include <crossparam/internal/remeshing/remesh_state.h>
@@ -90,6 +91,11 @@ struct Remeshing_statistics {
   std::size_t output_vertices = 0, output_faces = 0;
   std::size_t refinement_splits = 0; ///< §5.3
   std::size_t pseudo_flips = 0;      ///< §5.4
+  std::size_t gap_vertices = 0;      ///< vertices added where a sample of one mesh lay too far from the other
+                                     ///< (the last step: gap_refinement.h)
+  unsigned gap_rounds = 0;           ///< rounds of that step that added vertices
+  double gap_before = 0;             ///< the largest sampled distance before it, percent
+  std::size_t gap_samples_left = 0;  ///< samples its last round still found beyond 0.9 ε
   std::size_t unfold_moves = 0;      ///< vertex moves that removed folds of the target-shaped mesh
   std::size_t refinement_repairs_kept = 0; ///< refused chord splits made with a local fold repair (§5.3)
   std::size_t refinement_repairs_undone = 0; ///< such splits undone, or refused even with one fold of slack
@@ -108,7 +114,7 @@ struct Remeshing_statistics {
   std::size_t flipped_faces = 0;     ///< output faces whose normal opposes the target's where they land
   bool converged = false;            ///< max error and max chord error <= tolerance, and no flipped face
   double seconds_cross_parameterization = 0, seconds_smoothing = 0, seconds_refinement = 0, seconds_flips = 0,
-         seconds_fold_repair = 0, seconds_untangle = 0, seconds_certificate = 0, seconds_total = 0;
+         seconds_gaps = 0, seconds_fold_repair = 0, seconds_untangle = 0, seconds_certificate = 0, seconds_total = 0;
 };
 
 /// \brief Compatible remeshing (paper §5) of the two meshes of a cross-parameterization.
@@ -127,13 +133,15 @@ struct Remeshing_statistics {
 /// Work bounds and the time budget: at most `max_rounds` smoothing-and-refinement rounds (each 3 smoothing
 /// passes and at most one split per source edge and target vertex), refinement stopped at four times the
 /// source's vertex count; one pseudo-flip pass over the edges; one fold repair attempt per folded face; one
-/// local untangling per folded face, over rings of at most 8 faces around it. The `time_limit` is checked at
+/// local untangling per folded face, over rings of at most 8 faces around it; at most 8 rounds of the
+/// surface-distance step, each adding at most one vertex per face. The `time_limit` is checked at
 /// every round and at every folded face; when it runs out the constructor throws `Time_limit_error`, or, with
 /// `best_effort`, ends the step under way with the state reached, skips the improving steps left (pseudo flips,
-/// fold repair, untangling) and certifies and returns that result.
+/// fold repair, untangling, surface distance) and certifies and returns that result.
 ///
 /// The steps, in order (the constructor runs them): the projection and its error (§5.1), adaptive smoothing
 /// and refinement (§5.2-5.3), pseudo edge flips (§5.4), the untangling on the target with the fold repair, the
+/// two-sided surface distance sampled on both meshes and closed where a sample lies beyond 0.9 ε, the
 /// certificate, the outputs. Each step is in `internal/remeshing/`, on one state object.
 ///
 /// \tparam SourceMesh, TargetMesh the mesh types of the cross-parameterization
@@ -173,6 +181,7 @@ public:
     auto skip = [&s](const char* stage) { return s.budget.stop(stage, [] { return std::string("not started"); }); };
     if (max_dev < 180 && !skip("the remeshing's pseudo flips")) pseudo_flip(s, max_dev); // §5.4
     if (!skip("the remeshing's untangling")) untangle(s); // folds left (additions to the paper)
+    if (!skip("the remeshing's surface-distance step")) close_gaps(s); // the distance the verifier measures
     if (s.budget.expired()) say("remesh: time limit reached (best effort): the steps left are skipped");
     certify(s);                                      // the parameterization is still one-to-one
     finish(s, cp.statistics().seconds_total, t0);
@@ -305,6 +314,25 @@ private:
     say("remesh: " + std::to_string(stats_.pseudo_flips) + " pseudo edge flips, " + std::to_string(s.n_flipped) +
         " flipped faces, max chord " + fmt(100 * s.max_chord) + "%");
     stats_.seconds_flips = sec(tf, clock::now());
+  }
+
+  /// The last improving step (an addition to the paper): the two-sided distance between M_st and the target,
+  /// sampled on both surfaces, brought within the tolerance by vertices added where a sample is too far
+  /// (internal/remeshing/gap_refinement.h). At most 8 rounds, and not past four times the source's vertex
+  /// count, the cap of the refinement.
+  void close_gaps(State& s) {
+    const auto tg = clock::now();
+    const internal::Gap_snap_result g = internal::snap_surface_gaps(s, 8, 4 * stats_.layout_vertices);
+    stats_.gap_vertices = g.vertices;
+    stats_.gap_rounds = unsigned(g.rounds);
+    stats_.gap_before = 100 * g.worst_before;
+    stats_.gap_samples_left = g.left;
+    stats_.seconds_gaps = sec(tg, clock::now());
+    say("remesh: surface distance (sampled on both meshes): at most " + fmt(stats_.gap_before) + "% before; " +
+        std::to_string(g.vertices) + " vertices added in " + std::to_string(g.rounds) + " rounds" +
+        (g.left ? ", " + std::to_string(g.left) + " samples still beyond " +
+                      fmt(internal::gap_sample_share * stats_.tolerance) + "%"
+                : ", every sample within " + fmt(internal::gap_sample_share * stats_.tolerance) + "%"));
   }
 
   /// Folds left (additions to the paper): untangled on the target, off F, which adds no vertex; where that

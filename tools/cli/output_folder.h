@@ -12,12 +12,13 @@
 
 #include <cerrno>
 #include <csignal>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <string>
 #include <system_error>
 
-#include <dirent.h>
+#include <sys/syscall.h>
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -33,24 +34,47 @@ inline char staging_path[max_path_bytes] = {0};
 /// Folder levels the handler removes: the staging folder and the folders in it (the demo's morph/).
 constexpr int max_staging_depth = 2;
 
-/// Removes the files and folders inside the folder open as `dirfd`, `depth` levels deep at most, with
-/// async-signal-safe calls only (openat, fdopendir, readdir, unlinkat).
+/// A directory entry as the getdents64 system call returns it (Linux).
+struct Directory_entry64 {
+  std::uint64_t inode;
+  std::int64_t offset;
+  unsigned short length;
+  unsigned char type;
+  char name[1];
+};
+
+/// Removes the files and folders inside the folder open as `dirfd` (and closes it), `depth` levels deep at most,
+/// with async-signal-safe calls only: the getdents64 system call into a buffer on the stack, unlinkat, openat,
+/// lseek, close. (opendir and readdir allocate: a signal that interrupts a malloc of the main computation would
+/// deadlock in them.) Entries are read again from the start until a pass removes nothing, as removing entries
+/// while reading may skip some.
 inline void remove_contents(int dirfd, int depth) {
-  DIR* d = fdopendir(dirfd);
-  if (!d) {
-    close(dirfd);
-    return;
-  }
-  while (dirent* e = readdir(d)) {
-    if (std::strcmp(e->d_name, ".") == 0 || std::strcmp(e->d_name, "..") == 0) continue;
-    if (unlinkat(dirfd, e->d_name, 0) == 0) continue;
-    if (depth > 1) {
-      const int sub = openat(dirfd, e->d_name, O_RDONLY | O_DIRECTORY);
-      if (sub >= 0) remove_contents(sub, depth - 1);
-      unlinkat(dirfd, e->d_name, AT_REMOVEDIR);
+  alignas(8) char buffer[4096];
+  for (int pass = 0; pass < 8; ++pass) {
+    if (lseek(dirfd, 0, SEEK_SET) != 0) break;
+    bool removed = false;
+    for (;;) {
+      const long n = syscall(SYS_getdents64, dirfd, buffer, sizeof buffer);
+      if (n <= 0) break;
+      for (long at = 0; at < n;) {
+        const auto* e = reinterpret_cast<const Directory_entry64*>(buffer + at);
+        at += e->length;
+        const char* name = e->name;
+        if (std::strcmp(name, ".") == 0 || std::strcmp(name, "..") == 0) continue;
+        if (unlinkat(dirfd, name, 0) == 0) {
+          removed = true;
+          continue;
+        }
+        if (depth > 1) {
+          const int sub = openat(dirfd, name, O_RDONLY | O_DIRECTORY);
+          if (sub >= 0) remove_contents(sub, depth - 1);
+          if (unlinkat(dirfd, name, AT_REMOVEDIR) == 0) removed = true;
+        }
+      }
     }
+    if (!removed) break;
   }
-  closedir(d);
+  close(dirfd);
 }
 
 /// On SIGINT, SIGTERM or SIGHUP: removes the staging folder, then dies of the same signal.

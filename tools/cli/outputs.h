@@ -392,6 +392,8 @@ inline Remeshing_verification write_remesh(const Options& o, const Map& cp, cons
     j.member("undone", S.fold_repairs_undone).end_object();
     j.key("untangling").begin_object().member("folds_removed", S.untangled_folds).member("vertices_moved", S.untangle_moves);
     j.member("max_move_percent", S.untangle_max_move).end_object();
+    j.key("surface_gaps").begin_object().member("sampled_max_before_percent", S.gap_before).member("vertices_added", S.gap_vertices);
+    j.member("rounds", S.gap_rounds).member("samples_left", S.gap_samples_left).end_object();
     j.member("tolerance_percent", S.tolerance);
     j.key("error_initial").begin_object().member("max_percent", S.max_error_initial).member("l2_percent", S.l2_error_initial).end_object();
     j.key("error").begin_object().member("max_percent", S.max_error).member("l2_percent", S.l2_error);
@@ -411,7 +413,7 @@ inline Remeshing_verification write_remesh(const Options& o, const Map& cp, cons
     j.member("smoothing", C.seconds_smoothing).member("map_total", C.seconds_total);
     j.member("adaptive_smoothing", S.seconds_smoothing).member("refinement", S.seconds_refinement);
     j.member("pseudo_flips", S.seconds_flips).member("fold_repair", S.seconds_fold_repair).member("untangle", S.seconds_untangle);
-    j.member("certificate", S.seconds_certificate).member("remesh_total", S.seconds_total);
+    j.member("surface_gaps", S.seconds_gaps).member("certificate", S.seconds_certificate).member("remesh_total", S.seconds_total);
     j.end_object();
   });
   print_remesh_summary(o, S, check, added, C.seconds_total + S.seconds_total, verify_s);
