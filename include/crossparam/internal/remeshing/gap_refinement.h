@@ -32,11 +32,12 @@ namespace internal {
 /// against the target's features, that is a few percent of ε, and the 10 % kept in reserve covers it.
 constexpr double gap_sample_share = 0.9;
 
-/// The sample points of a triangle whose longest edge is `length`, in two steps. First its corners and edge
-/// midpoints: the distance to a surface is 1-Lipschitz, and every point of the triangle lies within
-/// length / (2√3) of one of these six points (a circumradius of the four half-size triangles they make), so
-/// when the largest distance found there plus that bound is within `limit`, the whole triangle is, and nothing
-/// more is sampled. The corners' squared distances are given (`corner_d2`), not sampled. Otherwise a grid of
+/// The sample points of a triangle whose longest edge is `length`, in three steps. The distance to a surface is
+/// 1-Lipschitz, and every point of a triangle lies within its longest edge / √3 of one of its corners (the
+/// circumradius of an acute triangle, at most half the longest edge otherwise). So the corners alone settle the
+/// triangle when their largest distance plus length / √3 is within `limit`; failing that, the corners and edge
+/// midpoints do when their largest distance plus length / (2√3) is (the four half-size triangles they make);
+/// then nothing more is sampled. The corners' squared distances are given (`corner_d2`), not sampled. Otherwise a grid of
 /// barycentric points (i, j, k) / n with i + j + k = n, n chosen so that neighbouring samples lie at most ε/2
 /// apart (at least 4, at most `gap_max_subdivision`). `f(b, edge)` returns the squared distance at the point
 /// with barycentric coordinates b, which lies on edge `edge` (0: corners 0-1, 1: 1-2, 2: 2-0) or inside (-1).
@@ -54,6 +55,7 @@ void for_each_gap_sample(double length, double eps, double limit, const std::arr
     return worst2;
   };
   const double corners = std::max({corner_d2[0], corner_d2[1], corner_d2[2]});
+  if (std::sqrt(corners) + length / std::sqrt(3.0) <= limit) return;
   if (std::sqrt(grid(2, corners)) + length / (2 * std::sqrt(3.0)) <= limit) return;
   grid(std::max(4, std::min(gap_max_subdivision, int(std::ceil(2 * length / eps)))), corners);
 }
