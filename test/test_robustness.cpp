@@ -78,6 +78,20 @@ void expect_same(double a, double b, const char* what) {
   EXPECT_NEAR(a, b, 1e-6 * std::max({1.0, std::abs(a), std::abs(b)})) << what;
 }
 
+/// The figures of a run on the scaled pair are those of the reference run: the same counts and verdicts, the
+/// same errors, distances and distortion up to rounding.
+void expect_same_figures(const Figures& g, const Figures& ref) {
+  EXPECT_EQ(g.valid, ref.valid);
+  EXPECT_TRUE(g.certified);
+  EXPECT_EQ(g.output_vertices, ref.output_vertices);
+  EXPECT_EQ(g.flipped, ref.flipped);
+  expect_same(g.max_error, ref.max_error, "max error");
+  expect_same(g.l2_error, ref.l2_error, "L2 error");
+  expect_same(g.hausdorff, ref.hausdorff, "Hausdorff distance");
+  expect_same(g.hausdorff_source, ref.hausdorff_source, "Hausdorff distance to the source");
+  expect_same(g.angular, ref.angular, "angular distortion");
+}
+
 Surface_mesh octahedron() {
   return shapes::internal_shapes::soup_to_mesh({{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}},
                               {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}}, "test mesh");
@@ -103,15 +117,7 @@ TEST(Scale, SameFiguresAtEveryScale) {
   EXPECT_TRUE(ref.certified);
   for (double factor : {1e-150, 1e-100, 1e-40, 1e40, 1e90}) {
     SCOPED_TRACE("factor " + std::to_string(factor));
-    const Figures g = run_normalised(scaled(a, factor), scaled(b, factor), f);
-    EXPECT_EQ(g.valid, ref.valid);
-    EXPECT_TRUE(g.certified);
-    EXPECT_EQ(g.output_vertices, ref.output_vertices);
-    EXPECT_EQ(g.flipped, ref.flipped);
-    expect_same(g.max_error, ref.max_error, "max error");
-    expect_same(g.l2_error, ref.l2_error, "L2 error");
-    expect_same(g.hausdorff, ref.hausdorff, "Hausdorff distance");
-    expect_same(g.angular, ref.angular, "angular distortion");
+    expect_same_figures(run_normalised(scaled(a, factor), scaled(b, factor), f), ref);
   }
 }
 
@@ -130,16 +136,7 @@ TEST(Scale, LibraryWithoutRescalingByTheCaller) {
   for (double factor : {1e-150, 1e-100, 1e-40, 1e40, 1e90}) {
     SCOPED_TRACE("factor " + std::to_string(factor));
     const Surface_mesh sa = scaled(a, factor), sb = scaled(b, factor);
-    const Figures g = run_pipeline(sa, sb, f);
-    EXPECT_EQ(g.valid, ref.valid);
-    EXPECT_TRUE(g.certified);
-    EXPECT_EQ(g.output_vertices, ref.output_vertices);
-    EXPECT_EQ(g.flipped, ref.flipped);
-    expect_same(g.max_error, ref.max_error, "max error");
-    expect_same(g.l2_error, ref.l2_error, "L2 error");
-    expect_same(g.hausdorff, ref.hausdorff, "Hausdorff distance");
-    expect_same(g.hausdorff_source, ref.hausdorff_source, "Hausdorff distance to the source");
-    expect_same(g.angular, ref.angular, "angular distortion");
+    expect_same_figures(run_pipeline(sa, sb, f), ref);
 
     // The outputs are in the caller's units: every point of both outputs is the reference's times the factor, up
     // to rounding, and finite; so are the map's images of the source vertices and a morph frame.
