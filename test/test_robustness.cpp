@@ -11,11 +11,13 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <string>
+#include <utility>
 #include <vector>
 
 using namespace crossparam;
@@ -31,11 +33,24 @@ struct Figures {
   bool valid = false, certified = false;
 };
 
-/// Map, remeshing and verification of (s, t) as given (no rescaling).
-Figures run_pipeline(Surface_mesh s, Surface_mesh t, const Feature_correspondence& f, double tolerance = 0.5) {
+/// The points a run gives back: both outputs, and the map's image on the target of every source vertex.
+struct Outputs {
+  std::vector<std::array<double, 3>> source_points, target_points, images;
+};
+
+/// Map, remeshing and verification of (s, t) as given (no rescaling); the points it gives back in `out`.
+Figures run_pipeline(Surface_mesh s, Surface_mesh t, const Feature_correspondence& f, double tolerance = 0.5,
+                     Outputs* out = nullptr) {
   const Surface_mesh s0 = s, t0 = t;
   Map cp(s, t, f);
   const Remesher r(cp, crossparam::parameters::tolerance(tolerance));
+  if (out) {
+    out->source_points = r.source_points();
+    out->target_points = r.target_points();
+    out->images.clear();
+    for (std::size_t v = 0; v < cp.input_vertices(Mesh_side::source); ++v)
+      out->images.push_back(cp.input_point(Mesh_side::target, cp.source_vertex_to_target_input(v)));
+  }
   Surface_mesh os, ot;
   r.copy_to(Mesh_side::source, os);
   r.copy_to(Mesh_side::target, ot);
@@ -127,41 +142,35 @@ TEST(Scale, SameFiguresAtEveryScale) {
 TEST(Scale, LibraryWithoutRescalingByTheCaller) {
   const Surface_mesh a = shapes::make_deformed_sphere(31, 500, true), b = shapes::make_deformed_sphere(32, 450, true);
   const Feature_correspondence f = shapes::random_features(a, b, 6, 33, false);
-  const Figures ref = run_pipeline(a, b, f);
+  Outputs ref_out;
+  const Figures ref = run_pipeline(a, b, f, 0.5, &ref_out);
   EXPECT_TRUE(ref.certified);
   // Valid by the independent verifier: on this pair e(v) met the tolerance while the two-sided
   // Hausdorff distance did not (0.570 %) until the remesher sampled the surface distance itself.
   EXPECT_TRUE(ref.valid);
   EXPECT_LE(ref.hausdorff, 0.5);
+  const CGAL::Bbox_3 box = CGAL::Polygon_mesh_processing::bbox(b);
+  const double diag = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
+                                CGAL::square(box.zmax() - box.zmin()));
   for (double factor : {1e-150, 1e-100, 1e-40, 1e40, 1e90}) {
     SCOPED_TRACE("factor " + std::to_string(factor));
-    const Surface_mesh sa = scaled(a, factor), sb = scaled(b, factor);
-    expect_same_figures(run_pipeline(sa, sb, f), ref);
+    Outputs out;
+    expect_same_figures(run_pipeline(scaled(a, factor), scaled(b, factor), f, 0.5, &out), ref);
 
     // The outputs are in the caller's units: every point of both outputs is the reference's times the factor, up
     // to rounding, and finite; so are the map's images of the source vertices and a morph frame.
-    Surface_mesh s = sa, t = sb, s_ref = a, t_ref = b;
-    Map cp(s, t, f), cp_ref(s_ref, t_ref, f);
-    const Remesher r(cp), r_ref(cp_ref);
-    ASSERT_EQ(r.target_points().size(), r_ref.target_points().size());
-    const CGAL::Bbox_3 box = CGAL::Polygon_mesh_processing::bbox(b);
-    const double diag = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
-                                  CGAL::square(box.zmax() - box.zmin()));
+    ASSERT_EQ(out.target_points.size(), ref_out.target_points.size());
     double worst = 0;
-    for (const auto* pts : {&r.target_points(), &r.source_points()}) {
-      const auto& ref_pts = pts == &r.target_points() ? r_ref.target_points() : r_ref.source_points();
+    for (const auto& [pts, ref_pts] : {std::make_pair(&out.target_points, &ref_out.target_points),
+                                       std::make_pair(&out.source_points, &ref_out.source_points)})
       for (std::size_t i = 0; i < pts->size(); ++i)
         for (int c = 0; c < 3; ++c) {
           ASSERT_TRUE(std::isfinite((*pts)[i][c]));
-          worst = std::max(worst, std::abs((*pts)[i][c] / factor - ref_pts[i][c]));
+          worst = std::max(worst, std::abs((*pts)[i][c] / factor - (*ref_pts)[i][c]));
         }
-    }
     EXPECT_LT(worst, 1e-9 * diag) << "outputs not in the caller's units";
-    for (std::size_t v = 0; v < cp.input_vertices(Mesh_side::source); ++v) {
-      const std::array<double, 3> p = cp.input_point(Mesh_side::target, cp.source_vertex_to_target_input(v));
-      ASSERT_TRUE(std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]));
-    }
-    for (const auto& p : morph(r.source_points(), r.target_points(), 0.5))
+    for (const auto& p : out.images) ASSERT_TRUE(std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]));
+    for (const auto& p : morph(out.source_points, out.target_points, 0.5))
       ASSERT_TRUE(std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]));
   }
 }

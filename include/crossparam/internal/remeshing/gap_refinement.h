@@ -8,7 +8,7 @@
 #ifndef CROSSPARAM_INTERNAL_REMESHING_GAP_REFINEMENT_H
 #define CROSSPARAM_INTERNAL_REMESHING_GAP_REFINEMENT_H
 
-#include <crossparam/internal/remeshing/fold_repair.h>
+#include <crossparam/internal/barycentric.h>
 #include <crossparam/internal/remeshing/remesh_state.h>
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
@@ -64,27 +64,11 @@ inline double longest_side(const Point_3& a, const Point_3& b, const Point_3& c)
   return std::sqrt(std::max({CGAL::squared_distance(a, b), CGAL::squared_distance(b, c), CGAL::squared_distance(c, a)}));
 }
 
-/// Barycentric coordinates of p, a point of triangle (a, b, c) (or near it: projected onto its plane), clamped
-/// to the triangle and normalised; the centroid for a degenerate triangle.
-inline std::array<double, 3> barycentric_in_triangle(const Point_3& a, const Point_3& b, const Point_3& c, const Point_3& p) {
-  const Kernel::Vector_3 n = CGAL::cross_product(b - a, c - a);
-  const double nn = n.squared_length();
-  if (!(nn > 0)) return {1.0 / 3, 1.0 / 3, 1.0 / 3};
-  std::array<double, 3> w{CGAL::cross_product(b - p, c - p) * n / nn, CGAL::cross_product(c - p, a - p) * n / nn,
-                          CGAL::cross_product(a - p, b - p) * n / nn};
-  double sum = 0;
-  for (double& x : w) sum += (x = std::max(0.0, x));
-  if (!(sum > 0)) return {1.0 / 3, 1.0 / 3, 1.0 / 3};
-  for (double& x : w) x /= sum;
-  return w;
-}
-
 /// What snap_surface_gaps() did.
 struct Gap_snap_result {
   std::size_t vertices = 0;  ///< new vertices
   std::size_t rounds = 0;    ///< rounds that made some
   double worst_before = 0;   ///< largest sampled distance before (working coordinates)
-  double worst_after = 0;    ///< and among the samples of the last round
   std::size_t left = 0;      ///< samples of the last round still beyond the limit
 };
 
@@ -184,7 +168,7 @@ inline Gap_snap_result snap_surface_gaps(Remesh_state& s, unsigned max_rounds, s
                           [&](const std::array<double, 3>& w, int) { return target_sample(barycentric_point(a, b, c, w), tf); });
     }
     if (round == 0) r.worst_before = std::sqrt(worst2);
-    r.worst_after = std::sqrt(worst2), r.left = far;
+    r.left = far;
     if (far == 0 || round == max_rounds || m.number_of_vertices() >= vertex_cap) break;
     if (s.budget.stop("the remeshing's surface-distance snapping", [&] {
           return "round " + std::to_string(round + 1) + " of at most " + std::to_string(max_rounds) + ", " +

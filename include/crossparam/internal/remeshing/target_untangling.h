@@ -5,6 +5,7 @@
 #ifndef CROSSPARAM_INTERNAL_REMESHING_TARGET_UNTANGLING_H
 #define CROSSPARAM_INTERNAL_REMESHING_TARGET_UNTANGLING_H
 
+#include <crossparam/internal/barycentric.h>
 #include <crossparam/internal/remeshing/disk_chart.h>
 #include <crossparam/internal/remeshing/remesh_state.h>
 #include <crossparam/internal/remeshing/untangle.h>
@@ -309,15 +310,7 @@ private:
   Work_location location_in(WF f, const Point_3& p) const {
     const auto& t = s.target.m;
     const WH h = t.halfedge(f);
-    const Point_3 &a = t.point(t.source(h)), &b = t.point(t.target(h)), &c = t.point(t.target(t.next(h)));
-    const Kernel::Vector_3 n = CGAL::cross_product(b - a, c - a);
-    std::array<double, 3> w{CGAL::cross_product(c - b, p - b) * n, CGAL::cross_product(a - c, p - c) * n,
-                            CGAL::cross_product(b - a, p - a) * n};
-    double sum = 0;
-    for (double& x : w) sum += (x = std::max(0.0, x));
-    if (!(sum > 0)) w = {1.0 / 3, 1.0 / 3, 1.0 / 3}, sum = 1;
-    for (double& x : w) x /= sum;
-    return {f, w};
+    return {f, barycentric_in_triangle(t.point(t.source(h)), t.point(t.target(h)), t.point(t.target(t.next(h))), p)};
   }
 
   Remesh_state& s;
