@@ -11,10 +11,13 @@
 #include <crossparam/textured_obj.h>
 #include <support/shapes.h>
 
+#include <CGAL/Polygon_mesh_processing/distance.h>
 #include <CGAL/Polygon_mesh_processing/locate.h>
+#include <CGAL/Polygon_mesh_processing/measure.h>
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
@@ -203,6 +206,85 @@ TEST(Blend, RegionWeights) {
   EXPECT_GT(outside, w.size() / 2);
 }
 
+namespace {
+Point_3 src_point(const internal::Common_refinement& c, std::size_t v) {
+  const auto& p = c.source_points[v];
+  return Point_3(p[0], p[1], p[2]);
+}
+} // namespace
+
+// The common refinement on one source triangle that two remeshings subdivide differently: one at an inner
+// point p (three faces), one at a point q within 1e-14 of the middle of the first remeshing's edge from corner 0
+// to p, as rounding puts a point meant to be on it (a cap in exact arithmetic). Every common face must be well shaped
+// (no cap, no needle), lie inside one face of each remeshing, and carry each remeshing's surface.
+TEST(MultiRemesh, CommonRefinementOfTwoSubdivisions) {
+  const std::vector<std::array<double, 3>> src{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  const std::array<std::size_t, 3> tri{0, 1, 2};
+  auto location = [&](std::array<std::array<double, 3>, 3> c) {
+    Input_face_location l;
+    l.face = 0;
+    l.vertices = tri;
+    l.corners = c;
+    return l;
+  };
+  const std::array<double, 3> A{1, 0, 0}, B{0, 1, 0}, C{0, 0, 1};
+  const std::array<double, 3> p{0.2, 0.3, 0.5};
+  const std::array<double, 3> q{0.6, 0.15 + 1e-14, 0.25 - 1e-14}; // (corner 0 + p) / 2, off the edge by 1e-14
+  auto on = [&](const std::array<double, 3>& b, double lift) { // a point of a target surface: a tent over it
+    return std::array<double, 3>{b[1], b[2], lift * b[0] * b[1] * b[2]};
+  };
+  // Remeshing 1: corners, then p. Remeshing 2: corners, then q, splitting the triangle into three.
+  const std::vector<std::array<std::size_t, 3>> f1{{0, 1, 3}, {1, 2, 3}, {2, 0, 3}}, f2 = f1;
+  const std::vector<Input_face_location> l1{location({A, B, p}), location({B, C, p}), location({C, A, p})},
+      l2{location({A, B, q}), location({B, C, q}), location({C, A, q})};
+  const std::vector<std::array<double, 3>> t1{on(A, 0), on(B, 0), on(C, 0), on(p, 5)}, t2{on(A, 0), on(B, 0), on(C, 0), on(q, -3)};
+  const std::vector<internal::Fitted_remeshing> fits{{&f1, &l1, &t1}, {&f2, &l2, &t2}};
+  const internal::Common_refinement c = internal::Common_refinement_builder(src, 1, fits).result();
+  EXPECT_EQ(c.retriangulated_faces, 1u);
+  EXPECT_GE(c.flipped_caps, 1u); // q next to the edge from corner 0 to p
+  ASSERT_EQ(c.images.size(), 2u);
+  double area = 0;
+  for (std::size_t g = 0; g < c.faces.size(); ++g) {
+    const auto& t = c.faces[g];
+    const Point_3 a(src_point(c, t[0])), b(src_point(c, t[1])), d(src_point(c, t[2]));
+    const auto n = CGAL::cross_product(b - a, d - a);
+    const double len2 = std::max({CGAL::squared_distance(a, b), CGAL::squared_distance(b, d), CGAL::squared_distance(a, d)});
+    EXPECT_GT(n.z(), 1e-9 * len2) << "face " << g << ": oriented as the source and no cap";
+    area += n.z() / 2;
+    // Inside one face of each remeshing: the centroid's face there holds all three corners.
+    for (std::size_t j = 0; j < 2; ++j) {
+      const auto& L = j == 0 ? l1 : l2;
+      const auto& T = j == 0 ? t1 : t2;
+      const auto& F = j == 0 ? f1 : f2;
+      std::array<double, 3> centroid{0, 0, 0};
+      for (int k = 0; k < 3; ++k)
+        for (int i = 0; i < 3; ++i) centroid[i] += c.locations[g].corners[k][i] / 3;
+      std::size_t holder = 0;
+      double best = -1;
+      for (std::size_t h = 0; h < L.size(); ++h) {
+        const auto x = internal::barycentric_in_frame(L[h].corners, centroid);
+        if (std::min({x[0], x[1], x[2]}) > best) best = std::min({x[0], x[1], x[2]}), holder = h;
+      }
+      for (int k = 0; k < 3; ++k) {
+        const auto x = internal::barycentric_in_frame(L[holder].corners, c.locations[g].corners[k]);
+        EXPECT_GT(std::min({x[0], x[1], x[2]}), -1e-12) << "face " << g << " leaves face " << holder << " of remeshing " << j;
+        // Its image: the point of that face of the remeshing's surface.
+        std::array<double, 3> want{0, 0, 0};
+        for (int i = 0; i < 3; ++i)
+          for (int e = 0; e < 3; ++e) want[e] += x[i] * T[F[holder][i]][e];
+        for (int e = 0; e < 3; ++e) EXPECT_NEAR(c.images[j][t[k]][e], want[e], 1e-12);
+      }
+    }
+  }
+  EXPECT_NEAR(area, 0.5, 1e-12);
+  // Each remeshing's own vertices keep their images exactly.
+  for (const auto& pt : {std::make_pair(0, t1[3]), std::make_pair(1, t2[3])}) {
+    bool found = false;
+    for (const auto& x : c.images[std::size_t(pt.first)]) found = found || x == pt.second;
+    EXPECT_TRUE(found);
+  }
+}
+
 // Three meshes to one connectivity: every output verified against its own input by the independent verifier
 // (one face list, Hausdorff within the tolerance, no flipped face), the source's vertices reproduced exactly.
 TEST(MultiRemesh, ThreeSpheres) {
@@ -230,7 +312,30 @@ TEST(MultiRemesh, ThreeSpheres) {
     const auto& p = r.points(0)[std::size_t(v)];
     EXPECT_EQ(Point_3(p[0], p[1], p[2]), meshes[0].point(v));
   }
-  EXPECT_GE(r.points(0).size(), r.statistics().two_way_vertices);
+  for (std::size_t m = 1; m < 3; ++m) EXPECT_GE(r.points(0).size(), r.statistics().fitted_vertices[m]);
+  // Output m is the surface of the compatible remeshing of mesh 0 with mesh m, subdivided: computed here on its
+  // own, the same pair gives the same surface (every output vertex on it, every vertex of it an output vertex,
+  // the same area), and the outputs are closed, valid meshes.
+  for (std::size_t m = 1; m < 3; ++m) {
+    Surface_mesh s = meshes[0], t = meshes[m];
+    Feature_correspondence pairs;
+    for (const auto& row : features) pairs.push_back({row[0], row[m]});
+    const Map cp(s, t, pairs, crossparam::parameters::tolerance(tolerance));
+    const Remesher pair(cp, crossparam::parameters::tolerance(tolerance));
+    Surface_mesh fitted, out;
+    pair.copy_to(Mesh_side::target, fitted);
+    r.copy_to(m, out);
+    ASSERT_TRUE(CGAL::is_valid_polygon_mesh(out));
+    EXPECT_TRUE(CGAL::is_closed(out));
+    const double diag = internal::bbox_diagonal(meshes[m]);
+    auto points_of = [](const Surface_mesh& x) { return std::vector<Point_3>(x.points().begin(), x.points().end()); };
+    EXPECT_LT(CGAL::Polygon_mesh_processing::max_distance_to_triangle_mesh<CGAL::Sequential_tag>(points_of(out), fitted),
+              1e-9 * diag) << "mesh " << m;
+    EXPECT_LT(CGAL::Polygon_mesh_processing::max_distance_to_triangle_mesh<CGAL::Sequential_tag>(points_of(fitted), out),
+              1e-9 * diag) << "mesh " << m;
+    const double a = CGAL::Polygon_mesh_processing::area(fitted), b = CGAL::Polygon_mesh_processing::area(out);
+    EXPECT_NEAR(a, b, 1e-9 * a) << "mesh " << m;
+  }
   // Another source: the finest mesh.
   const Multi_remesher<Surface_mesh> r2(meshes, features, crossparam::parameters::tolerance(tolerance, crossparam::parameters::source_mesh(finest_mesh)));
   EXPECT_EQ(r2.statistics().source, 2u);

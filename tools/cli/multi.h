@@ -113,14 +113,14 @@ inline int run_multi_remesh(const Options& o) {
     j.member("meshes", meshes.size()).member("source", S.source).member("features", features.size());
     j.member("tolerance_percent", o.tolerance);
     j.member("output_vertices", S.output_vertices).member("output_faces", S.output_faces);
-    j.member("largest_input_vertices", largest).member("two_way_vertices", S.two_way_vertices);
+    j.member("largest_input_vertices", largest).member("retriangulated_source_faces", S.retriangulated_faces);
     j.member("one_face_list", one_face_list).member("valid", all_valid).member("converged", S.converged);
     j.key("per_mesh").begin_array();
     for (std::size_t m = 0; m < meshes.size(); ++m) {
       j.begin_object().member("input", o.positional[m]).member("input_vertices", counts[m]);
       if (m != S.source) {
         j.member("hausdorff_percent", checks[m].hausdorff_target).member("flipped_faces", checks[m].flipped_faces);
-        j.member("valid", checks[m].valid).member("splits", S.splits[m]).member("max_chord_percent", S.max_chord_error[m]);
+        j.member("valid", checks[m].valid).member("fitted_vertices", S.fitted_vertices[m]).member("max_chord_percent", S.max_chord_error[m]);
         j.member("seconds_map", S.seconds_map[m]).member("seconds_fit", S.seconds_fit[m]);
       } else {
         j.member("source", true);
