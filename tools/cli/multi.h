@@ -114,6 +114,7 @@ inline int run_multi_remesh(const Options& o) {
     j.member("tolerance_percent", o.tolerance);
     j.member("output_vertices", S.output_vertices).member("output_faces", S.output_faces);
     j.member("largest_input_vertices", largest).member("retriangulated_source_faces", S.retriangulated_faces);
+    j.member("flipped_caps", S.flipped_caps).member("merged_needles", S.merged_needles);
     j.member("one_face_list", one_face_list).member("valid", all_valid).member("converged", S.converged);
     j.key("per_mesh").begin_array();
     for (std::size_t m = 0; m < meshes.size(); ++m) {
