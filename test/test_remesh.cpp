@@ -8,10 +8,15 @@
 #include <crossparam/remeshing_verification.h>
 #include <support/shapes.h>
 
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+
 #include <gtest/gtest.h>
 
 #include "bench_cases.h"
 
+#include <algorithm>
 #include <iostream>
 #include <set>
 
@@ -26,7 +31,26 @@ struct Outcome {
   Remeshing_verification check;
   bool certificate = false;
   bool source_prefix_exact = false;
+  std::size_t standard_flips = 0; ///< target-shaped faces flipped by the standard rule, counted here
 };
+
+// Faces of `out` flipped against `target` by the standard rule: the face's normal more than 90° from the
+// target's at the point of the target nearest the face's centroid (counted independently of the remesher).
+std::size_t standard_flips(const Surface_mesh& target, const Surface_mesh& out) {
+  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, CGAL::AABB_face_graph_triangle_primitive<Surface_mesh>>>;
+  Tree tree(faces(target).first, faces(target).second, target);
+  std::size_t n = 0;
+  auto normal = [](const Surface_mesh& m, Surface_mesh::Face_index f) {
+    const auto h = m.halfedge(f);
+    return internal::triangle_normal(m.point(m.source(h)), m.point(m.target(h)), m.point(m.target(m.next(h))));
+  };
+  for (auto f : out.faces()) {
+    const auto h = out.halfedge(f);
+    const Point_3 c = CGAL::centroid(out.point(out.source(h)), out.point(out.target(h)), out.point(out.target(out.next(h))));
+    n += normal(out, f) * normal(target, tree.closest_point_and_primitive(c).second) < 0;
+  }
+  return n;
+}
 
 // The figures of a remeshing `r` of the inputs s0, t0 (as they were before the map refined them), verified.
 Outcome outcome_of(const Remesher& r, const Surface_mesh& s0, const Surface_mesh& t0, double tolerance) {
@@ -37,6 +61,7 @@ Outcome outcome_of(const Remesher& r, const Surface_mesh& s0, const Surface_mesh
   r.copy_to(Mesh_side::source, os);
   r.copy_to(Mesh_side::target, ot);
   o.check = verify_compatible_remeshing(s0, t0, os, ot, tolerance);
+  o.standard_flips = standard_flips(t0, ot);
   // The first points of the source-shaped output are the source's vertices, bit for bit.
   o.source_prefix_exact = r.source_points().size() >= s0.number_of_vertices();
   std::size_t i = 0;
@@ -281,13 +306,34 @@ TEST(DiskChart, TorusPatchIsAOneToOneDisk) {
 
 // The bench cases of ../shared: outputs compatible, the source side exact, the remeshed parameterization
 // certified, the target side within the tolerance (independent Hausdorff distance), and no flipped face.
-class BenchRemesh : public ::testing::TestWithParam<std::string> {};
+class BenchRemesh : public ::testing::TestWithParam<std::string> {
+public:
+  // Faces flipped by the standard rule, over the cases that ran: not yet zero (doc/results.md), so the suite
+  // pins their mean and worst (today 77.7 and 220 on the six cases), so that a change that trades them away
+  // fails.
+  static std::vector<std::size_t>& standard_flips_per_case() {
+    static std::vector<std::size_t> v;
+    return v;
+  }
+  static void TearDownTestSuite() {
+    const auto& v = standard_flips_per_case();
+    if (v.size() < 6) return; // a filtered or partial run
+    double mean = 0;
+    for (std::size_t x : v) mean += double(x) / double(v.size());
+    const std::size_t worst = *std::max_element(v.begin(), v.end());
+    if (mean > 80 || worst > 230)
+      ADD_FAILURE() << "faces flipped by the standard rule: mean " << mean << " (at most 80), worst " << worst
+                    << " (at most 230)";
+  }
+};
 
 TEST_P(BenchRemesh, CompatibleAndClose) {
   std::optional<test_bench::Case> c = test_bench::load(GetParam());
   if (!c) GTEST_SKIP() << test_bench::absent(GetParam());
   Outcome o = remesh_and_verify(c->source, c->target, c->features, 0.5);
   RecordProperty("hausdorff_percent", std::to_string(o.check.hausdorff_target));
+  RecordProperty("standard_flips", int(o.standard_flips));
+  standard_flips_per_case().push_back(o.standard_flips);
   EXPECT_TRUE(o.certificate);
   EXPECT_TRUE(o.check.compatible);
   EXPECT_TRUE(o.source_prefix_exact);

@@ -103,6 +103,10 @@ struct Remeshing_statistics {
   std::size_t fold_repairs_kept = 0, fold_repairs_undone = 0; ///< fold-repair attempts kept and undone
   std::size_t untangled_folds = 0;   ///< folded faces that the untangling on the target removed
   std::size_t untangle_moves = 0;    ///< vertices of the target-shaped mesh it moved (off F, along the target)
+  std::size_t standard_flips_untangled = 0; ///< faces flipped by the standard rule that its second pass removed
+  std::size_t standard_flips_left = 0;      ///< faces of M_st flipped by the standard rule after the untangling
+  std::size_t standard_untangle_moves = 0;  ///< vertices of the target-shaped mesh that second pass moved
+  double standard_untangle_max_move = 0;    ///< its farthest move, percent of the target's diagonal
   double untangle_max_move = 0;      ///< the farthest such move, percent of the target's bounding-box diagonal
   unsigned smoothing_rounds = 0, refinement_rounds = 0;
   double tolerance = 0;              ///< ε, percent
@@ -357,6 +361,26 @@ private:
           std::to_string(stats_.fold_repairs_kept) + " repairs kept, " + std::to_string(stats_.fold_repairs_undone) +
           " undone), " + std::to_string(s.n_flipped) + " flipped faces");
       record(s, untangler.run());
+    }
+    // Then the faces flipped by the standard rule (the centroid's nearest point alone), which the verifier's
+    // rule lets pass when one corner agrees: each untangling kept only where no face around a vertex it moved is
+    // flipped by that rule, so no face is flipped by either rule that was not before.
+    if (!s.budget.stop("the remeshing's untangling by the standard rule", [] { return std::string("not started"); })) {
+      internal::Target_untangler standard(s, internal::Target_untangler::Rule::standard);
+      const std::size_t verifier_before = untangler.count_flipped();
+      const State::Images kept = s.images();
+      internal::Untangle_result u = standard.run();
+      const std::size_t verifier_after = untangler.count_flipped();
+      // A guard (each kept untangling is checked around every vertex it moved, so this is not expected): a pass
+      // that leaves more faces flipped by the verifier's rule than before is undone whole.
+      if (verifier_after > verifier_before) s.restore(kept), u = internal::Untangle_result();
+      untangler.mark_flipped();
+      stats_.standard_flips_untangled = u.folds_removed;
+      stats_.standard_flips_left = standard.count_flipped();
+      stats_.standard_untangle_moves = u.moves;
+      stats_.standard_untangle_max_move = u.max_move;
+      say("remesh: untangling by the standard flip rule: " + std::to_string(u.folds_removed) + " removed, " +
+          std::to_string(stats_.standard_flips_left) + " left");
     }
     stats_.seconds_untangle = sec(tu, clock::now()) - stats_.seconds_fold_repair;
   }

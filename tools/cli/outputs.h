@@ -391,6 +391,8 @@ inline Remeshing_verification write_remesh(const Options& o, const Map& cp, cons
     j.key("fold_repair").begin_object().member("splits", S.fold_repair_splits).member("kept", S.fold_repairs_kept);
     j.member("undone", S.fold_repairs_undone).end_object();
     j.key("untangling").begin_object().member("folds_removed", S.untangled_folds).member("vertices_moved", S.untangle_moves);
+    j.member("standard_rule_removed", S.standard_flips_untangled).member("standard_rule_left", S.standard_flips_left);
+    j.member("standard_rule_vertices_moved", S.standard_untangle_moves).member("standard_rule_max_move_percent", S.standard_untangle_max_move);
     j.member("max_move_percent", S.untangle_max_move).end_object();
     j.key("surface_gaps").begin_object().member("sampled_max_before_percent", S.gap_before).member("vertices_added", S.gap_vertices);
     j.member("rounds", S.gap_rounds).member("samples_left", S.gap_samples_left).end_object();

@@ -38,9 +38,27 @@ class Target_untangler {
 public:
   using Target_tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, CGAL::AABB_face_graph_triangle_primitive<Work_mesh>>>;
 
-  explicit Target_untangler(Remesh_state& state)
-      : s(state), tree(CGAL::faces(state.target.m).first, CGAL::faces(state.target.m).second, state.target.m) {
+  /// The fold rules the untangling works to.
+  enum class Rule {
+    verifier, ///< the remeshing verifier's: the normal opposes the target's at the points nearest the centroid and every corner
+    standard  ///< the standard one: the normal opposes the target's at the point nearest the centroid
+  };
+
+  explicit Target_untangler(Remesh_state& state, Rule rule = Rule::verifier)
+      : s(state), rule_(rule), tree(CGAL::faces(state.target.m).first, CGAL::faces(state.target.m).second, state.target.m) {
     tree.accelerate_distance_queries();
+  }
+
+  /// The faces of M_st flipped by this untangler's rule.
+  std::size_t count_flipped() const {
+    std::size_t n = 0;
+    for (WF f : s.mesh.m.faces()) n += flipped_on_target(f);
+    return n;
+  }
+  /// Sets `s.folded` and `s.n_flipped` by this untangler's rule.
+  void mark_flipped() {
+    s.n_flipped = 0;
+    for (WF f : s.mesh.m.faces()) s.n_flipped += (s.folded[f] = flipped_on_target(f));
   }
 
   /// Untangles the folds of M_st along the target. Every face is tested by the verifier's rule
@@ -92,6 +110,7 @@ private:
     for (const Point_3& p : {CGAL::centroid(a, b, c), a, b, c}) {
       const auto nearest = tree.closest_point_and_primitive(p);
       if (!s.opposes(n, nearest.first, nearest.second)) return false;
+      if (rule_ == Rule::standard) return true; // the centroid alone
     }
     return true;
   }
@@ -208,8 +227,9 @@ private:
     if (untangle_in_chart(region, to_chart, from_chart, true, moved) <= 0) return 0;
     for (WF f : region)
       if (flipped_on_target(f)) untangle_in_rings(f, moved);
+    // Every vertex this call moved, also one that an earlier untangling had moved already.
     for (std::size_t i = 0; i < moved.size(); ++i)
-      if (moved[i] && !moved_before[i])
+      if (s.pos[i] != pos_before[i])
         for (WF f : CGAL::faces_around_target(m.halfedge(WV(i)), m))
           if (flipped_on_target(f)) {
             s.img = img_before, s.pos = pos_before, moved = moved_before, max_move_ = max_move_before;
@@ -314,6 +334,7 @@ private:
   }
 
   Remesh_state& s;
+  Rule rule_;
   Target_tree tree;     ///< the target's faces
   double max_move_ = 0; ///< the farthest move of this run (percent of the target's diagonal)
 };
