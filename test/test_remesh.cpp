@@ -306,26 +306,7 @@ TEST(DiskChart, TorusPatchIsAOneToOneDisk) {
 
 // The bench cases of ../shared: outputs compatible, the source side exact, the remeshed parameterization
 // certified, the target side within the tolerance (independent Hausdorff distance), and no flipped face.
-class BenchRemesh : public ::testing::TestWithParam<std::string> {
-public:
-  // Faces flipped by the standard rule, over the cases that ran: not yet zero (doc/results.md), so the suite
-  // pins their mean and worst (today 77.7 and 220 on the six cases), so that a change that trades them away
-  // fails.
-  static std::vector<std::size_t>& standard_flips_per_case() {
-    static std::vector<std::size_t> v;
-    return v;
-  }
-  static void TearDownTestSuite() {
-    const auto& v = standard_flips_per_case();
-    if (v.size() < 6) return; // a filtered or partial run
-    double mean = 0;
-    for (std::size_t x : v) mean += double(x) / double(v.size());
-    const std::size_t worst = *std::max_element(v.begin(), v.end());
-    if (mean > 80 || worst > 230)
-      ADD_FAILURE() << "faces flipped by the standard rule: mean " << mean << " (at most 80), worst " << worst
-                    << " (at most 230)";
-  }
-};
+class BenchRemesh : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(BenchRemesh, CompatibleAndClose) {
   std::optional<test_bench::Case> c = test_bench::load(GetParam());
@@ -333,7 +314,6 @@ TEST_P(BenchRemesh, CompatibleAndClose) {
   Outcome o = remesh_and_verify(c->source, c->target, c->features, 0.5);
   RecordProperty("hausdorff_percent", std::to_string(o.check.hausdorff_target));
   RecordProperty("standard_flips", int(o.standard_flips));
-  standard_flips_per_case().push_back(o.standard_flips);
   EXPECT_TRUE(o.certificate);
   EXPECT_TRUE(o.check.compatible);
   EXPECT_TRUE(o.source_prefix_exact);
@@ -384,6 +364,28 @@ TEST(BenchRemeshAtPaperError, FewerAddedVerticesThanThePaper) {
   EXPECT_LT(added / n, 13.6);  // measured: 12.9 %
   EXPECT_GT(l2 / n, 0.12);     // the same error as the paper's; measured: 0.128 %
   EXPECT_LT(l2 / n, 0.14);
+}
+
+// Faces flipped by the standard rule (counted here, independently of the remesher) over the six bench cases at
+// ε = 0.5 %: not yet zero (doc/results.md), so their mean and worst are pinned over the whole set (measured:
+// 77.7 and 220, horse0_horse7), so that a change that trades some cases for others fails.
+TEST(BenchRemeshStandardRule, MeanAndWorstOverTheBench) {
+  double mean = 0;
+  std::size_t worst = 0, n = 0;
+  for (const std::string& name : test_bench::names()) {
+    std::optional<test_bench::Case> c = test_bench::load(name);
+    if (!c) GTEST_SKIP() << test_bench::absent(name);
+    const Outcome o = remesh_and_verify(c->source, c->target, c->features, 0.5);
+    EXPECT_TRUE(o.check.valid) << name << ": " << o.check.message;
+    mean += double(o.standard_flips);
+    worst = std::max(worst, o.standard_flips);
+    ++n;
+  }
+  ASSERT_EQ(n, 6u);
+  mean /= double(n);
+  std::cout << "[ remesh ] standard-rule flips at 0.5 %: mean " << mean << ", worst " << worst << "\n";
+  EXPECT_LE(mean, 80.0);
+  EXPECT_LE(worst, 230u);
 }
 
 INSTANTIATE_TEST_SUITE_P(Shared, BenchRemesh,
