@@ -54,7 +54,6 @@ struct Common_refinement {
   std::vector<std::array<double, 3>> source_points;
   std::vector<std::vector<std::array<double, 3>>> images;
   std::size_t retriangulated_faces = 0; ///< input faces subdivided differently by two or more remeshings
-  std::vector<char> from_retriangulation; ///< per face: made by the triangulation of such an input face
   std::size_t flipped_caps = 0;         ///< caps (a vertex within rounding of the opposite edge) flipped away
   std::size_t merged_needles = 0;       ///< needles (an edge within rounding of zero length) collapsed
 };
@@ -91,8 +90,6 @@ public:
     merge_needles();
     // Points that two remeshings gave with different coordinates but that are the same point, and the ends of
     // needles: one vertex each; the faces between them go.
-    for (auto& t : out_.faces)
-      for (std::size_t& v : t) v = find(v);
     compact();
   }
 
@@ -243,7 +240,6 @@ private:
   void emit(std::size_t f, const std::array<std::size_t, 3>& tri, std::array<Local, 3> t, bool reversed) {
     if (reversed) std::swap(t[1], t[2]);
     out_.faces.push_back({t[0].id, t[1].id, t[2].id});
-    out_.from_retriangulation.push_back(1);
     Input_face_location l;
     l.face = f;
     l.vertices = tri;
@@ -263,13 +259,6 @@ private:
     bool same = true;
     for (std::size_t k = 1; k < subdividing.size() && same; ++k) same = same_subdivision(f, subdividing[0], subdividing[k]);
     const std::size_t j0 = subdividing.empty() ? 0 : subdividing[0];
-    // Orientation of the remeshed faces in the frame of f's corners (all of one sign: they tile f).
-    bool reversed = false;
-    {
-      double area = 0;
-      for (std::size_t g : by_face_[j0][f]) area += signed_area((*r_[j0].locations)[g].corners);
-      reversed = area < 0;
-    }
     if (same) {
       // Taken as it is: the faces of a remeshing are oriented as the source.
       for (std::size_t g : by_face_[j0][f]) {
@@ -277,15 +266,17 @@ private:
         std::array<std::size_t, 3> t;
         for (int c = 0; c < 3; ++c) t[c] = vertex_at(f, *tri, l.corners[c]);
         out_.faces.push_back(t);
-        out_.from_retriangulation.push_back(0);
         l.vertices = *tri;
         out_.locations.push_back(l);
       }
       for (std::size_t j : subdividing) keep_exact_in(f, *tri, j);
       return;
     }
+    // Orientation of the remeshed faces in the frame of f's corners (all of one sign: they tile f).
+    double area = 0;
+    for (std::size_t g : by_face_[j0][f]) area += signed_area((*r_[j0].locations)[g].corners);
     ++out_.retriangulated_faces;
-    retriangulate(f, *tri, subdividing, reversed);
+    retriangulate(f, *tri, subdividing, area < 0);
   }
 
   /// Whether remeshings j and k have the same faces in input face f (same corners, as sets of points).
@@ -469,11 +460,9 @@ private:
       if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;
       c.faces.push_back(t);
       c.locations.push_back(out_.locations[g]);
-      c.from_retriangulation.push_back(out_.from_retriangulation[g]);
     }
     out_.faces = std::move(c.faces);
     out_.locations = std::move(c.locations);
-    out_.from_retriangulation = std::move(c.from_retriangulation);
     out_.source_points = std::move(c.source_points);
     out_.images = std::move(c.images);
   }
