@@ -14,6 +14,8 @@
 //   --png        with --ply, render the same meshes to PNG with POV-Ray (tools/cli/render.h)
 //   --view X,Y,Z --up X,Y,Z   the camera of --png (direction from the object to the camera, the up vector)
 //   --threads N  threads of the map (default 1: the figures do not depend on it, the times do)
+//   --extremity-features         maps with extremity features (parameters::extremity_features)
+//   --extremity-persistence X    their persistence threshold (default 0.05, in sqrt(area) units)
 #include "../test/wide_cases.h"
 
 #include "../tools/cli/render.h"
@@ -203,6 +205,8 @@ int main(int argc, char** argv) {
   bool show_detail = false, png = false;
   fs::path ply_dir;
   unsigned threads = 1;
+  bool extremities = false;
+  double persistence = Cross_parameterization<Surface_mesh, Surface_mesh>::default_extremity_persistence;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--detail")
@@ -220,6 +224,10 @@ int main(int argc, char** argv) {
       ply_dir = argv[++i];
     else if (a == "--threads" && i + 1 < argc)
       threads = unsigned(std::stoul(argv[++i]));
+    else if (a == "--extremity-features")
+      extremities = true;
+    else if (a == "--extremity-persistence" && i + 1 < argc)
+      persistence = std::stod(argv[++i]);
     else if (!a.empty() && a[0] == '-') {
       std::fprintf(stderr, "bench_accuracy: unknown option %s\n", a.c_str());
       return 2;
@@ -233,10 +241,12 @@ int main(int argc, char** argv) {
     if (keep) names.push_back(n);
   }
 
-  std::printf("map accuracy on the wider bench, one run per case, %u thread(s), assertions %s; errors in units of "
-              "sqrt(target area)\n\n",
-              threads, bench::assertions());
-  std::printf("| case | truth | V source | V target | features (+ protrusion) | points | mean | median | max | "
+  char ext[64] = "off";
+  if (extremities) std::snprintf(ext, sizeof ext, "on (persistence %g)", persistence);
+  std::printf("map accuracy on the wider bench, one run per case, %u thread(s), assertions %s; extremity features "
+              "%s; errors in units of sqrt(target area)\n\n",
+              threads, bench::assertions(), ext);
+  std::printf("| case | truth | V source | V target | features (+ protrusion + extremity) | points | mean | median | max | "
               "nearest point | nearest after similarity | time (s) |\n");
   std::printf("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   std::vector<std::pair<std::string, wide_bench::Outcome>> all;
@@ -249,14 +259,16 @@ int main(int argc, char** argv) {
       std::printf("| %s | absent | | | | | | | | | | |\n", n.c_str());
       continue;
     }
-    const wide_bench::Outcome o = wide_bench::evaluate(*c, parameters::number_of_threads(threads));
+    const wide_bench::Outcome o = wide_bench::evaluate(
+        *c, parameters::number_of_threads(threads, parameters::extremity_features(
+                                                       extremities, parameters::extremity_persistence(persistence))));
     if (!o.ok)
       std::printf("| %s | %s | %zu | %zu | %zu | | FAILED: %s | | | | | %.1f |\n", n.c_str(), c->is_dense() ? "dense" : "landmarks",
                   o.source_vertices, o.target_vertices, o.features, o.message.c_str(), o.seconds);
     else
-      std::printf("| %s | %s | %zu | %zu | %zu + %zu | %zu | %.4f | %.4f | %.4f | %.4f | %.4f | %.1f |\n", n.c_str(),
+      std::printf("| %s | %s | %zu | %zu | %zu + %zu + %zu | %zu | %.4f | %.4f | %.4f | %.4f | %.4f | %.1f |\n", n.c_str(),
                   c->is_dense() ? "dense" : "landmarks", o.source_vertices, o.target_vertices, o.features,
-                  o.protrusion_features, o.points.size(), o.mean, o.median, o.max, o.baseline_mean, o.aligned_mean,
+                  o.protrusion_features, o.stats.extremity_features, o.points.size(), o.mean, o.median, o.max, o.baseline_mean, o.aligned_mean,
                   o.seconds);
     std::fflush(stdout);
     if (show_detail && o.ok) detail(*c, o);

@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-3.0-or-later
 # Regenerates the tables of doc/results.md from the bench programs. Builds nothing: build the targets
-# bench_layout, bench_map, bench_remesh and test_map first.
+# bench_layout, bench_map, bench_remesh, bench_accuracy and test_map first.
 #
 #   bash benchmark/make_results.sh [BUILD_DIR [BENCH_DIR [TABLE...]]]
 #
 # BUILD_DIR defaults to build, BENCH_DIR to ../shared/bench beside the repository; TABLE is one of layout, map, remesh-0.5, remesh-1,
-# accuracy (default: all). Each table's output replaces the text between its markers in doc/results.md:
+# accuracy, wide, wide-extremity (default: all; the two wider-bench tables read ../shared/data through
+# bench_accuracy, not BENCH_DIR). Each table's output replaces the text between its markers in doc/results.md:
 #   <!-- make_results: TABLE BEGIN --> ... <!-- make_results: TABLE END -->
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
@@ -14,7 +15,7 @@ build=${1:-build}
 bench=${2:-$here/../shared/bench}
 shift $(( $# < 2 ? $# : 2 ))
 tables=("$@")
-[ ${#tables[@]} -gt 0 ] || tables=(layout map remesh-0.5 remesh-1 accuracy)
+[ ${#tables[@]} -gt 0 ] || tables=(layout map remesh-0.5 remesh-1 accuracy wide wide-extremity)
 results="$here/doc/results.md"
 cd "$here"
 
@@ -48,7 +49,9 @@ for t in "${tables[@]}"; do
       { echo '```text'
         "$build/test/test_map" --gtest_filter='Shared*' | grep '^\[ accuracy \]'
         echo '```'; } > "$tmp" ;;
-    *) echo "make_results: unknown table '$t' (layout, map, remesh-0.5, remesh-1, accuracy)" >&2; exit 2 ;;
+    wide)           need "$build/benchmark/bench_accuracy"; "$build/benchmark/bench_accuracy" > "$tmp" ;;
+    wide-extremity) need "$build/benchmark/bench_accuracy"; "$build/benchmark/bench_accuracy" --extremity-features > "$tmp" ;;
+    *) echo "make_results: unknown table '$t' (layout, map, remesh-0.5, remesh-1, accuracy, wide, wide-extremity)" >&2; exit 2 ;;
   esac
   # The bench programs print a header line, a blank line and a table; drop trailing blank lines.
   sed -i -e :a -e '/^\n*$/{$d;N;ba' -e '}' "$tmp"

@@ -213,6 +213,10 @@ if [ -s "$work/demo/source.off" ]; then
   expect_code failed-verification 4 "failed its independent verification" -- remesh "$d/source.off" "$d/target.off" --features "$d/features.txt" -o "$work/strict" --tolerance 0.001 --quiet
   [ -s "$work/strict/report.json" ] && grep -q '"valid": false' "$work/strict/report.json" || bad "failed verification: no report of it"
   expect_code failed-verification-best-effort 0 "best-effort" -- remesh "$d/source.off" "$d/target.off" --features "$d/features.txt" -o "$work/strict2" --tolerance 0.001 --best-effort --quiet
+  # Extremity features: the option is accepted and the pairs added are reported (none here: the demo's
+  # features already sit on every extremity).
+  expect_code extremity-features 0 "" -- map "$d/source.off" "$d/target.off" --features "$d/features.txt" -o "$work/extremity" --extremity-features --quiet
+  grep -q '"extremity_features": \[' "$work/extremity/report.json" || bad "extremity features: not in report.json"
 fi
 # A real bench case.
 if [ -d "$shared/bench/wolf0_wolf2" ]; then

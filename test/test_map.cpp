@@ -361,6 +361,70 @@ TEST(Map, ProtrusionFeatures) {
   EXPECT_LT(std::max(cp.statistics().squeeze_source, cp.statistics().squeeze_target), squeeze_plain / 10);
 }
 
+// Extremity features: two creatures with features on the head and the trunk only, so that the four feet and the
+// tail lie inside patches, and without protrusion features, so that only the extremity step can pair them. The
+// map must then send each free tip (held out: scored, not given) close to its partner, much closer than without.
+TEST(Map, ExtremityFeatures) {
+  namespace cp = crossparam::parameters;
+  // The dog-like creature and a variant of it in another pose and build (longer body, raised neck, splayed legs,
+  // curled tail): both with legs and tails long enough to be extremities.
+  shapes::Creature_params pb = shapes::creature_a_params();
+  pb.body_radii = {1.1, 0.46, 0.40};
+  pb.neck_elevation_deg = 55;
+  pb.leg_length = 0.68;
+  pb.leg_splay_deg = 14;
+  pb.tail_bend_deg = 90;
+  pb.tail_elevation_deg = 35;
+  const Surface_mesh a0 = shapes::creature_a(), b0 = shapes::make_creature(pb);
+  const Feature_correspondence all = shapes::creature_features(a0, shapes::creature_a_params(), b0, pb);
+  const std::vector<std::size_t> given{0, 1, 7, 8, 9, 10, 11}, held_out{2, 3, 4, 5, 6}; // creature_feature_names()
+  Feature_correspondence f;
+  for (std::size_t k : given) f.push_back(all[k]);
+  const double scale = std::sqrt(CGAL::Polygon_mesh_processing::area(b0));
+  // Mean over the held-out tips of the distance on the target, over sqrt(area), from F(source tip) to the
+  // target's tip.
+  auto held_out_error = [&](const Map& m, double* worst) {
+    double sum = 0;
+    *worst = 0;
+    for (std::size_t k : held_out) {
+      const Input_location l = m.source_vertex_to_target_input(all[k].source);
+      std::array<Point_3, 3> p;
+      int i = 0;
+      for (auto v : CGAL::vertices_around_face(b0.halfedge(Surface_mesh::Face_index(Surface_mesh::size_type(l.face))), b0))
+        p[i++] = b0.point(v);
+      const Point_3 x = CGAL::barycenter(p[0], l.b[0], p[1], l.b[1], p[2], l.b[2]);
+      const double e = std::sqrt(CGAL::squared_distance(x, b0.point(Surface_mesh::Vertex_index(Surface_mesh::size_type(all[k].target))))) / scale;
+      sum += e;
+      *worst = std::max(*worst, e);
+    }
+    return sum / double(held_out.size());
+  };
+  Surface_mesh a = a0, b = b0;
+  Map plain(a, b, f, cp::protrusion_features(false));
+  EXPECT_EQ(plain.statistics().extremity_features, 0u);
+  double worst_before = 0, worst_after = 0;
+  const double before = held_out_error(plain, &worst_before);
+
+  Surface_mesh c = a0, d = b0;
+  Map ext(c, d, f, cp::protrusion_features(false, cp::extremity_features(true)));
+  expect_map_invariants(ext, ext.features());
+  EXPECT_EQ(ext.statistics().protrusion_features, 0u);
+  EXPECT_GE(ext.statistics().extremity_features, 1u);
+  ASSERT_EQ(ext.features().size(), f.size() + ext.statistics().extremity_features);
+  EXPECT_TRUE(std::equal(f.begin(), f.end(), ext.features().begin()));
+  const double after = held_out_error(ext, &worst_after);
+  std::cout << "[ extremity ] " << ext.statistics().extremity_features << " pairs added; held-out tips: mean error "
+            << before << " -> " << after << ", worst " << worst_before << " -> " << worst_after << "\n";
+  EXPECT_LT(after, 0.25 * before);
+  EXPECT_LT(worst_after, Map::default_extremity_persistence);
+  // A persistence that no extremity reaches adds nothing; a non-positive one is refused.
+  Surface_mesh e = a0, g = b0;
+  Map none(e, g, f, cp::protrusion_features(false, cp::extremity_features(true, cp::extremity_persistence(100.0))));
+  EXPECT_EQ(none.statistics().extremity_features, 0u);
+  Surface_mesh h = a0, k = b0;
+  EXPECT_THROW(Map(h, k, f, cp::extremity_features(true, cp::extremity_persistence(0.0))), crossparam::Input_error);
+}
+
 // A Polyhedron_3 source with Face_location queries.
 TEST(Map, PolyhedronSource) {
   using Polyhedron = CGAL::Polyhedron_3<Kernel, CGAL::Polyhedron_items_with_id_3>;

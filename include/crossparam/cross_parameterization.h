@@ -17,6 +17,7 @@
 
 #include <chrono>
 #include <functional>
+#include <numeric>
 #include <set>
 
 namespace crossparam {
@@ -28,6 +29,7 @@ struct Cross_parameterization_statistics {
   unsigned smoothing_best_iteration = 0; ///< passes after which the kept (least distorted) state was reached
   std::size_t protrusion_warps = 0;  ///< base triangles re-aligned by align_protrusions (descriptor-guided)
   std::size_t protrusion_features = 0; ///< feature pairs added at squeezed protrusion tips (after the user's)
+  std::size_t extremity_features = 0;  ///< feature pairs added at mis-mapped extremities (after those)
   Distortion distortion_initial;  ///< of F right after the mean-value parameterization (§4.1)
   Distortion distortion;          ///< of the final F
   bool stretch_reweighted_source = false; ///< the mean-value weights needed stretch reweighting (§4.1 note)
@@ -35,7 +37,7 @@ struct Cross_parameterization_statistics {
   /// Per mesh, the largest vertex stretch of its final parameterization over the median one (1 is even; a
   /// squeezed protrusion gives 10^3 and more, and the map is nearly singular there).
   double squeeze_source = 0, squeeze_target = 0;
-  double seconds_probe = 0;            ///< the first map that finds the protrusion features (0 if none was made)
+  double seconds_probe = 0;            ///< the first map that finds the protrusion and extremity features (0 if none was made)
   double seconds_parameterization = 0; ///< §4.1, both meshes
   double seconds_smoothing = 0;        ///< §4.2, both meshes
   double seconds_certificate = 0;
@@ -85,6 +87,13 @@ struct Cross_parameterization_access;
 template <class SourceMesh, class TargetMesh>
 class Cross_parameterization {
 public:
+  /// Default of `extremity_persistence`, in units of sqrt(area). The fingertips of the hands of the wider
+  /// bench rise 0.12-0.34 above their saddles, a horse's ears and hooves 0.10-0.12; the maxima made by the edge
+  /// graph's jagged distances and by small bumps rise a few hundredths. Over the wider bench the accuracy is
+  /// flat from 0.03 to 0.1 (mean 0.042-0.043) and falls apart at 0.2, where fingertips stop counting
+  /// (doc/results.md); 0.05 is inside the flat range, at half the smallest tip that must count.
+  static constexpr double default_extremity_persistence = 0.05;
+
   using Source_location = CGAL::Polygon_mesh_processing::Face_location<SourceMesh, double>;
   using Target_location = CGAL::Polygon_mesh_processing::Face_location<TargetMesh, double>;
 
@@ -120,9 +129,16 @@ public:
     if (!internal::are_inputs_checked(np_source)) internal::check_layout_inputs(tm_s, tm_t, features, np_source, np_target);
 
     // Protrusion features: a first map, on copies of the meshes, finds the protrusions it squeezes; a feature
-    // pair at each tip makes the limb a corner of the base domain instead of a spot inside a patch.
+    // pair at each tip makes the limb a corner of the base domain instead of a spot inside a patch. On request,
+    // the same probe also gives pairs at the extremities it sends to the wrong place (extremity_tips).
     features_ = features;
-    if (choose_parameter(get_parameter(np_source, internal_np::protrusion_features_t()), true)) {
+    const bool protrusions = choose_parameter(get_parameter(np_source, internal_np::protrusion_features_t()), true);
+    const bool extremities = choose_parameter(get_parameter(np_source, internal_np::extremity_features_t()), false);
+    const double persistence = choose_parameter(get_parameter(np_source, internal_np::extremity_persistence_t()),
+                                                default_extremity_persistence);
+    if (!(persistence > 0) || !std::isfinite(persistence))
+      throw Input_error("extremity_persistence must be a positive number, not " + std::to_string(persistence));
+    if (protrusions || extremities) {
       // Copies in the same vertex order, so that feature indices carry over (the copy assumes the checked,
       // closed manifold meshes).
       Surface_mesh cs, ct;
@@ -140,11 +156,15 @@ public:
               apply_smoothing(smooth, apply_path_flips(flips, consistent_paths(consistent,
                   number_of_threads(threads_requested, time_limit(budget.remaining(), best_effort(budget.best_effort(),
                       number_of_iterations(so.max_iterations))))))))))));
-      const Feature_correspondence tips = probe.protrusion_tips();
+      const Feature_correspondence tips = protrusions ? probe.protrusion_tips() : Feature_correspondence();
+      const Feature_correspondence ends = extremities ? probe.extremity_tips(tips, persistence) : Feature_correspondence();
       features_.insert(features_.end(), tips.begin(), tips.end());
+      features_.insert(features_.end(), ends.begin(), ends.end());
       stats_.protrusion_features = tips.size();
+      stats_.extremity_features = ends.size();
       stats_.seconds_probe = sec(t0, clock::now());
-      say("map: protrusion probe: " + std::to_string(tips.size()) + " feature pairs added");
+      say("map: protrusion probe: " + std::to_string(tips.size()) + " feature pairs added" +
+          (extremities ? ", " + std::to_string(ends.size()) + " at extremities" : std::string()));
     }
 
     budget.check("the cross-parameterization", [] { return std::string("before the patch layouts"); });
@@ -479,18 +499,7 @@ public:
     auto strong = [&](int k, int c) {
       return c >= 0 && clusters[k][c].squeeze >= min_squeeze && clusters[k][c].size >= min_size;
     };
-    // The input vertex nearest (in edges) to v.
-    auto input_vertex = [&](int k, WV v) {
-      const internal::Layout_mesh& L = B_.side[k];
-      std::vector<WV> queue{v};
-      std::set<WV> seen{v};
-      for (std::size_t i = 0; i < queue.size(); ++i) {
-        if (std::size_t(queue[i]) < L.n_original_vertices) return queue[i];
-        for (WV w : CGAL::vertices_around_target(queue[i], L.m))
-          if (seen.insert(w).second) queue.push_back(w);
-      }
-      return v;
-    };
+    auto input_vertex = [&](int k, WV v) { return nearest_input_vertex(k, v); };
     // The input vertex of the other mesh whose descriptor is nearest to v's.
     auto partner = [&](int k, WV v) {
       const internal::Layout_mesh &A = B_.side[k], &B = B_.side[1 - k];
@@ -532,6 +541,108 @@ public:
     }
     for (std::size_t c = 0; c < clusters[1].size(); ++c)
       if (strong(1, int(c)) && !paired[c]) add(partner(1, clusters[1][c].tip), clusters[1][c].tip);
+    return out;
+  }
+
+  /// \brief Feature pairs at the extremities that this map sends to the wrong place.
+  ///
+  /// An extremity of a mesh is a local maximum of the geodesic distance to the nearest feature whose
+  /// topological persistence (how far it rises above the saddle joining it to a higher maximum) is at least
+  /// `min_persistence` √area: the tip of a finger, a limb or a tail without a feature. Extremities of the two
+  /// meshes are paired when each is the other's nearest by geodesic-distance descriptor (a symmetric test);
+  /// a pair is returned when the map sends the source extremity farther than `min_persistence` √area (of the
+  /// target) from its partner and agrees with the descriptors better than F's image does. Vertices already
+  /// features (the map's, or in `taken`) are not used again.
+  Feature_correspondence extremity_tips(const Feature_correspondence& taken, double min_persistence) const {
+    using internal::WV;
+    // Per mesh, the extremities: working vertices (the layout's split vertices included, so that the paths do
+    // not cut the vertex graph) with their persistence.
+    std::array<std::vector<std::pair<WV, double>>, 2> ext;
+    for (int k = 0; k < 2; ++k) {
+      const internal::Layout_mesh& L = B_.side[k];
+      const std::size_t n = L.m.number_of_vertices();
+      std::vector<double> d(n, HUGE_VAL);
+      for (std::size_t i = 0; i < n; ++i)
+        for (float x : L.desc[i]) d[i] = std::min(d[i], double(x));
+      std::vector<std::size_t> order(n);
+      std::iota(order.begin(), order.end(), std::size_t(0));
+      std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return d[a] > d[b] || (d[a] == d[b] && a < b); });
+      // 0-dimensional persistence of the superlevel sets of d: vertices are added from the highest down; a
+      // vertex with no neighbour added yet is a maximum and starts a component; where two components meet (at
+      // a saddle), the one with the lower maximum dies, its persistence being its height above the saddle.
+      std::vector<std::size_t> parent(n, n), top(n, n);
+      auto find = [&](std::size_t x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+      };
+      std::vector<double> persistence(n, -1);
+      for (std::size_t v : order) {
+        parent[v] = v;
+        top[v] = v;
+        for (WV w : CGAL::vertices_around_target(WV(WV::size_type(v)), L.m)) {
+          const std::size_t u = std::size_t(w);
+          if (parent[u] == n) continue; // not in the superlevel set yet
+          std::size_t a = find(u), b = find(v);
+          if (a == b) continue;
+          if (d[top[a]] < d[top[b]] || (d[top[a]] == d[top[b]] && top[a] > top[b])) std::swap(a, b);
+          if (top[b] != v) persistence[top[b]] = d[top[b]] - d[v];
+          parent[b] = a;
+        }
+      }
+      if (n > 0) persistence[top[find(order.front())]] = HUGE_VAL;
+      for (std::size_t i = 0; i < n; ++i)
+        if (persistence[i] >= min_persistence) ext[k].push_back({WV(WV::size_type(i)), persistence[i]});
+    }
+    // Vertices already features (given or in `taken`) are not used again.
+    std::array<std::set<std::size_t>, 2> used;
+    for (const Feature_correspondence* fc : {&features_, &taken})
+      for (const Feature_pair& p : *fc) {
+        used[0].insert(p.source);
+        used[1].insert(p.target);
+      }
+    std::array<double, 2> unit;
+    for (int k = 0; k < 2; ++k) unit[k] = std::sqrt(B_.side[k].area());
+    auto nearest = [&](int k, std::size_t i) {
+      std::size_t best = ext[1 - k].size();
+      double bd = HUGE_VAL;
+      for (std::size_t j = 0; j < ext[1 - k].size(); ++j) {
+        const double dd = descriptor_distance(B_.side[k].desc[ext[k][i].first], B_.side[1 - k].desc[ext[1 - k][j].first]);
+        if (dd < bd) {
+          bd = dd;
+          best = j;
+        }
+      }
+      return best;
+    };
+    const internal::Layout_mesh& Lt = B_.side[1];
+    Feature_correspondence out;
+    for (std::size_t i = 0; i < ext[0].size(); ++i) {
+      const std::size_t j = nearest(0, i);
+      if (j == ext[1].size() || nearest(1, j) != i) continue; // not mutual
+      const WV vs = ext[0][i].first, vt = ext[1][j].first;
+      // How far F sends the source extremity from its partner, over sqrt(target area).
+      const internal::Work_location l = locator_[1].locate(P_[0][vs]);
+      const internal::WH h = Lt.m.halfedge(l.face);
+      const auto& p0 = Lt.m.point(Lt.m.source(h));
+      const auto& p1 = Lt.m.point(Lt.m.target(h));
+      const auto& p2 = Lt.m.point(Lt.m.target(Lt.m.next(h)));
+      const auto& q = Lt.m.point(vt);
+      double e = 0;
+      for (int c = 0; c < 3; ++c) {
+        const double x = l.b[0] * p0[c] + l.b[1] * p1[c] + l.b[2] * p2[c] - q[c];
+        e += x * x;
+      }
+      e = std::sqrt(e) / unit[1];
+      // The pair must be needed (F misses the partner by at least the extremity scale) and agree with the
+      // descriptors better than F's own image does.
+      const double agree = descriptor_distance(B_.side[0].desc[vs], Lt.desc[vt]);
+      if (e < min_persistence || !(agree < image_mismatch(vs))) continue;
+      const std::size_t a = std::size_t(nearest_input_vertex(0, vs)), b = std::size_t(nearest_input_vertex(1, vt));
+      if (used[0].count(a) || used[1].count(b)) continue;
+      used[0].insert(a);
+      used[1].insert(b);
+      out.push_back({a, b});
+    }
     return out;
   }
 
@@ -602,6 +713,19 @@ private:
     return len;
   }
 
+  /// The input vertex of mesh k nearest (in edges) to working vertex v.
+  internal::WV nearest_input_vertex(int k, internal::WV v) const {
+    const internal::Layout_mesh& L = B_.side[k];
+    std::vector<internal::WV> queue{v};
+    std::set<internal::WV> seen{v};
+    for (std::size_t i = 0; i < queue.size(); ++i) {
+      if (std::size_t(queue[i]) < L.n_original_vertices) return queue[i];
+      for (internal::WV w : CGAL::vertices_around_target(queue[i], L.m))
+        if (seen.insert(w).second) queue.push_back(w);
+    }
+    return v;
+  }
+
   /// Distance between two geodesic-distance descriptors (Layout_mesh::desc).
   static double descriptor_distance(const std::vector<float>& a, const std::vector<float>& b) {
     double s = 0;
@@ -613,14 +737,14 @@ private:
   }
 
   /// Descriptor disagreement between source vertex v and its image F(v) (target descriptors interpolated).
-  double image_mismatch(internal::WV v) const {
+  double image_mismatch(internal::WV v, std::size_t dims = std::size_t(-1)) const {
     const internal::Layout_mesh& Ls = B_.side[0];
     const internal::Layout_mesh& Lt = B_.side[1];
     const internal::Work_location l = locator_[1].locate(P_[0][v]);
     const internal::WH h = Lt.m.halfedge(l.face);
     const internal::WV u[3] = {Lt.m.source(h), Lt.m.target(h), Lt.m.target(Lt.m.next(h))};
     double s = 0;
-    for (std::size_t k = 0; k < Ls.desc[v].size(); ++k) {
+    for (std::size_t k = 0; k < std::min(dims, Ls.desc[v].size()); ++k) {
       const double x = Ls.desc[v][k] - (l.b[0] * Lt.desc[u[0]][k] + l.b[1] * Lt.desc[u[1]][k] + l.b[2] * Lt.desc[u[2]][k]);
       s += x * x;
     }

@@ -109,7 +109,7 @@ inline int failed_verification(const Options& o, const std::string& message) {
 
 // ---- the library calls, one per stage, shared by the commands and the demo ----
 
-/// The cross-parameterization (§3-4) of `s` and `t` with the options' flips, smoothing, protrusion features,
+/// The cross-parameterization (§3-4) of `s` and `t` with the options' flips, smoothing, protrusion and extremity features,
 /// threads and iterations. Refines `s` and `t` in place, as the layout does.
 inline Map cross_parameterize(const Options& o, Surface_mesh& s, Surface_mesh& t, const Feature_correspondence& f) {
   namespace cp = crossparam::parameters;
@@ -117,11 +117,11 @@ inline Map cross_parameterize(const Options& o, Surface_mesh& s, Surface_mesh& t
              cp::apply_path_flips(
                  o.flips, cp::apply_smoothing(
                               o.smoothing, cp::protrusion_features(
-                                               o.protrusion_features,
+                                               o.protrusion_features, cp::extremity_features(o.extremity_features,
                                                cp::number_of_threads(
                                                    o.threads, cp::time_limit(remaining_seconds(o), cp::best_effort(o.best_effort,
                                                        cp::progress(progress_printer(o),
-                                                           CGAL::parameters::number_of_iterations(o.iterations)))))))),
+                                                           CGAL::parameters::number_of_iterations(o.iterations))))))))),
              CGAL::parameters::default_values());
 }
 

@@ -252,13 +252,19 @@ inline void write_checkerboard(const Options& o, const Map& cp) {
   }
 }
 
-/// The feature pairs the map added at protrusion tips, as an array of [source, target] pairs.
+/// The feature pairs the map added at protrusion tips and at extremities, as two arrays of [source, target]
+/// pairs (the map's features are the user's, then the protrusion pairs, then the extremity pairs).
 inline void write_protrusion_pairs(Json_writer& j, const Map& cp) {
-  const std::size_t n = cp.features().size(), added = cp.statistics().protrusion_features;
-  j.key("protrusion_features").begin_array();
-  for (std::size_t k = n - added; k < n; ++k)
-    j.begin_array().value(cp.features()[k].source).value(cp.features()[k].target).end_array();
-  j.end_array();
+  const std::size_t n = cp.features().size(), tips = cp.statistics().protrusion_features,
+                    ends = cp.statistics().extremity_features;
+  auto pairs = [&](const char* key, std::size_t begin, std::size_t end) {
+    j.key(key).begin_array();
+    for (std::size_t k = begin; k < end; ++k)
+      j.begin_array().value(cp.features()[k].source).value(cp.features()[k].target).end_array();
+    j.end_array();
+  };
+  pairs("protrusion_features", n - ends - tips, n - ends);
+  pairs("extremity_features", n - ends, n);
 }
 
 /// Writes the outputs of `map` (and the demo's map): the vertex maps both ways, the checkerboard and
