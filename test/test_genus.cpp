@@ -33,6 +33,12 @@ using crossparam::shapes::internal_shapes::V3;
 namespace {
 
 constexpr double pi = 3.14159265358979323846;
+/// Genus.RandomizedMaps: how far (degrees) the image of a held-out point may turn from its place around the
+/// ring and around the tube before it is counted. The two chains differ in ring and tube radii and in ellipticity, so the map is
+/// not the parametric one; a handle mapped the wrong way turns by 90 degrees or more around the ring, a tube
+/// twisted the wrong way by 180 around the tube.
+constexpr double held_out_ring_angle = 45;
+constexpr double held_out_tube_angle = 90;
 
 std::size_t env_or(const char* name, std::size_t fallback) {
   const char* v = std::getenv(name);
@@ -176,6 +182,29 @@ Feature_correspondence features_at(const Surface_mesh& a, const Ring_chain& ca, 
   return f;
 }
 
+/// Where a point lies on a chain: the ring whose centre circle is nearest, and its angles (degrees) around that
+/// ring and around its tube.
+Anchor chain_coordinates(const Ring_chain& c, V3 p) {
+  Anchor best{0, 0, 0};
+  double bd = HUGE_VAL;
+  for (int k = 0; k < c.genus; ++k) {
+    const V3 o = c.centre(k);
+    const double x = p.x - o.x, y = (p.y - o.y) / c.stretch;
+    const double q = std::sqrt(x * x + y * y) - c.R, d = std::sqrt(q * q + p.z * p.z);
+    if (d < bd) {
+      bd = d;
+      best = {k, std::atan2(y, x) * 180 / pi, std::atan2(p.z, q) * 180 / pi};
+    }
+  }
+  return best;
+}
+
+/// The angle between two directions given in degrees, in [0, 180].
+double angle_between(double a, double b) {
+  const double d = std::fmod(std::fabs(a - b), 360.0);
+  return d > 180 ? 360 - d : d;
+}
+
 /// Ring chains of one genus, of different shape and connectivity (variant 0, 1, 2, ...).
 Ring_chain chain_variant(int genus, int variant) {
   Ring_chain c;
@@ -238,31 +267,53 @@ TEST(Genus, TorusLayout) {
   expect_genus_layout(s, t, f, L, 1);
 }
 
-// Random pairs of genus 1 to 3 with 4 to 6 features around each handle; a third with the handles permuted
-// (the chain turned end for end) or, on tori, the tube twisted. CROSSPARAM_GENUS_TRIALS=N runs more.
+namespace {
+
+/// One random pair of genus 1 to 3: two different chain variants, 4 to 6 features around each handle; every
+/// third trial with the handles permuted (the chain turned end for end) or, on tori, the tube twisted.
+struct Random_genus_case {
+  int genus = 1, va = 0, vb = 1;
+  bool twisted = false;
+  std::function<Anchor(const Anchor&)> motion; ///< the target anchor of each source anchor
+  std::vector<Anchor> anchors;
+  std::string name;
+};
+
+Random_genus_case random_genus_case(std::mt19937& rng, std::size_t trial) {
+  Random_genus_case c;
+  c.genus = 1 + int(rng() % 3);
+  c.va = int(rng() % 3);
+  c.vb = (c.va + 1 + int(rng() % 2)) % 3;
+  std::vector<int> per_handle;
+  for (int k = 0; k < c.genus; ++k) per_handle.push_back(4 + int(rng() % 3));
+  c.twisted = trial % 3 == 0;
+  const double du = c.twisted ? 45.0 * double(rng() % 8) : 0, dv = c.twisted ? 30.0 * double(rng() % 12) : 0;
+  c.motion = [](const Anchor& x) { return x; };
+  const int genus = c.genus;
+  if (c.twisted && genus == 1) // an orientation-preserving self-map of the torus: turn the ring and the tube
+    c.motion = [du, dv](const Anchor& x) { return Anchor{x.ring, x.u + du, x.v + dv}; };
+  else if (c.twisted) // the chain turned end for end (rotation by 180 degrees about z): handles permuted
+    c.motion = [genus](const Anchor& x) { return Anchor{genus - 1 - x.ring, x.u + 180, x.v}; };
+  c.anchors = handle_anchors(genus, per_handle);
+  c.name = "trial " + std::to_string(trial) + " genus " + std::to_string(genus) + " variants " + std::to_string(c.va) +
+           "/" + std::to_string(c.vb) + " features " + std::to_string(c.anchors.size()) + (c.twisted ? " twisted" : "");
+  return c;
+}
+
+} // namespace
+
+// Random pairs of genus 1 to 3 (random_genus_case), every layout verified. CROSSPARAM_GENUS_TRIALS=N runs more.
 TEST(Genus, RandomizedLayouts) {
   const std::size_t trials = env_or("CROSSPARAM_GENUS_TRIALS", 100);
   std::mt19937 rng(20261125);
   std::size_t twisted = 0, per_genus[4] = {0, 0, 0, 0};
   for (std::size_t trial = 0; trial < trials; ++trial) {
-    const int genus = 1 + int(rng() % 3);
-    const int va = int(rng() % 3), vb = (va + 1 + int(rng() % 2)) % 3;
-    const Chain_mesh &a = chain_mesh(genus, va), &b = chain_mesh(genus, vb);
-    std::vector<int> per_handle;
-    for (int k = 0; k < genus; ++k) per_handle.push_back(4 + int(rng() % 3));
-    const bool twist = trial % 3 == 0;
-    twisted += twist;
-    const double du = twist ? 45.0 * double(rng() % 8) : 0, dv = twist ? 30.0 * double(rng() % 12) : 0;
-    std::function<Anchor(const Anchor&)> motion = [](const Anchor& x) { return x; };
-    if (twist && genus == 1) // an orientation-preserving self-map of the torus: turn the ring and the tube
-      motion = [du, dv](const Anchor& x) { return Anchor{x.ring, x.u + du, x.v + dv}; };
-    else if (twist) // the chain turned end for end (rotation by 180 degrees about z): handles permuted
-      motion = [genus](const Anchor& x) { return Anchor{genus - 1 - x.ring, x.u + 180, x.v}; };
+    const Random_genus_case c = random_genus_case(rng, trial);
+    twisted += c.twisted;
+    const Chain_mesh &a = chain_mesh(c.genus, c.va), &b = chain_mesh(c.genus, c.vb);
     Surface_mesh s = a.mesh, t = b.mesh;
-    const Feature_correspondence f = features_at(s, a.chain, t, b.chain, handle_anchors(genus, per_handle), motion);
-    SCOPED_TRACE("trial " + std::to_string(trial) + " genus " + std::to_string(genus) + " variants " +
-                 std::to_string(va) + "/" + std::to_string(vb) + " features " + std::to_string(f.size()) +
-                 (twist ? " twisted" : ""));
+    const Feature_correspondence f = features_at(s, a.chain, t, b.chain, c.anchors, c.motion);
+    SCOPED_TRACE(c.name);
     Patch_layout L;
     try {
       L = compute_patch_layouts(s, t, f);
@@ -270,11 +321,88 @@ TEST(Genus, RandomizedLayouts) {
       ADD_FAILURE() << e.what();
       continue;
     }
-    expect_genus_layout(s, t, f, L, genus);
-    ++per_genus[genus];
+    expect_genus_layout(s, t, f, L, c.genus);
+    ++per_genus[c.genus];
   }
   EXPECT_GE(twisted, trials / 3);
   for (int g = 1; g <= 3; ++g) EXPECT_GT(per_genus[g], 0u);
+}
+
+// The whole map on random pairs of genus 1 to 3 (random_genus_case, another seed): both certificates valid,
+// every feature exact. Then whether the handles map to the right handles: held-out points on every ring (four
+// per ring, on the cross-sections of its features, between them around the tube; the joins between rings are
+// no place to ask for a point-to-point answer) are counted when they land on another ring than the
+// correspondence's motion assigns, or farther than held_out_ring_angle around the ring or held_out_tube_angle
+// around the tube from their place; the counts are printed and pinned. CROSSPARAM_GENUS_MAP_TRIALS=N runs more.
+TEST(Genus, RandomizedMaps) {
+  const std::size_t trials = env_or("CROSSPARAM_GENUS_MAP_TRIALS", 100);
+  std::mt19937 rng(20261126);
+  using Map = Cross_parameterization<Surface_mesh, Surface_mesh>;
+  namespace PMP = CGAL::Polygon_mesh_processing;
+  static const double held_out[4][2] = {{90, 45}, {90, 225}, {270, 135}, {270, 315}};
+  double sum = 0, worst = 0;
+  std::size_t done = 0, points = 0, wrong_ring = 0, turned_ring = 0, turned_tube = 0;
+  for (std::size_t trial = 0; trial < trials; ++trial) {
+    const Random_genus_case c = random_genus_case(rng, trial);
+    const Chain_mesh &a = chain_mesh(c.genus, c.va), &b = chain_mesh(c.genus, c.vb);
+    Surface_mesh s = a.mesh, t = b.mesh;
+    const Feature_correspondence f = features_at(s, a.chain, t, b.chain, c.anchors, c.motion);
+    SCOPED_TRACE(c.name);
+    std::unique_ptr<Map> cp;
+    try {
+      cp = std::make_unique<Map>(s, t, f);
+    } catch (const Error& e) {
+      ADD_FAILURE() << e.what();
+      continue;
+    }
+    for (Mesh_side side : {Mesh_side::source, Mesh_side::target}) EXPECT_TRUE(cp->certificate(side).valid);
+    const auto& T_in = internal::Cross_parameterization_access::layout_mesh(*cp, Mesh_side::target);
+    for (std::size_t k = 0; k < f.size(); ++k) {
+      const Input_location l = cp->source_vertex_to_target_input(f[k].source);
+      double at = 0;
+      for (int i = 0; i < 3; ++i)
+        if (T_in.orig_tri[l.face][i] == f[k].target) at = l.b[i];
+      EXPECT_EQ(at, 1.0) << "feature " << k;
+    }
+    const double norm = std::sqrt(PMP::area(b.mesh));
+    std::vector<char> unused(a.mesh.number_of_vertices(), 0);
+    double trial_worst = 0;
+    for (int k = 0; k < c.genus; ++k)
+      for (const auto& uv : held_out) {
+        const Anchor x{k, uv[0], uv[1]}, y = c.motion(x);
+        const std::size_t v = shapes::internal_shapes::nearest_unused_vertex(a.mesh, a.chain.anchor(k, uv[0], uv[1]), unused);
+        const auto p = cp->input_point(Mesh_side::target, cp->source_vertex_to_target_input(v));
+        const V3 q = b.chain.anchor(y.ring, y.u, y.v);
+        const double e = std::sqrt((p[0] - q.x) * (p[0] - q.x) + (p[1] - q.y) * (p[1] - q.y) + (p[2] - q.z) * (p[2] - q.z)) / norm;
+        trial_worst = std::max(trial_worst, e);
+        // The image's place on the target chain: its ring (the nearest centre circle) and its angles around
+        // the ring and around the tube, against those the motion assigns.
+        const Anchor got = chain_coordinates(b.chain, V3{p[0], p[1], p[2]});
+        ++points;
+        if (got.ring != y.ring)
+          ++wrong_ring;
+        else if (angle_between(got.u, y.u) > held_out_ring_angle)
+          ++turned_ring;
+        else if (angle_between(got.v, y.v) > held_out_tube_angle)
+          ++turned_tube;
+      }
+    sum += trial_worst;
+    worst = std::max(worst, trial_worst);
+    ++done;
+  }
+  std::cout << "[ genus maps ] " << done << " of " << trials << " trials mapped; held-out points: " << points << ", "
+            << wrong_ring << " on the wrong ring, " << turned_ring << " more turned around the ring, " << turned_tube
+            << " more turned around the tube; worst held-out distance per trial: mean "
+            << sum / double(std::max<std::size_t>(1, done)) << ", worst " << worst << " (sqrt(target area))\n";
+  EXPECT_EQ(done, trials);
+  // Pinned, not ideal: the features sit on two cross-sections of each ring, and between them the layout's paths
+  // may wind around the tube differently on the two meshes (a twist the features allow), which turns the
+  // held-out points around the tube. Measured with the default trials: 4, 27 and 116 of 784 points.
+  if (trials == 100) {
+    EXPECT_LE(wrong_ring, 5u);
+    EXPECT_LE(turned_ring, 30u);
+    EXPECT_LE(turned_tube, 128u);
+  }
 }
 
 // The map on genus 1 and 2: certified one-to-one both ways, features exact. Then, on genus 1, the compatible
