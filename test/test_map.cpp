@@ -387,13 +387,9 @@ TEST(Map, ExtremityFeatures) {
     double sum = 0;
     *worst = 0;
     for (std::size_t k : held_out) {
-      const Input_location l = m.source_vertex_to_target_input(all[k].source);
-      std::array<Point_3, 3> p;
-      int i = 0;
-      for (auto v : CGAL::vertices_around_face(b0.halfedge(Surface_mesh::Face_index(Surface_mesh::size_type(l.face))), b0))
-        p[i++] = b0.point(v);
-      const Point_3 x = CGAL::barycenter(p[0], l.b[0], p[1], l.b[1], p[2], l.b[2]);
-      const double e = std::sqrt(CGAL::squared_distance(x, b0.point(Surface_mesh::Vertex_index(Surface_mesh::size_type(all[k].target))))) / scale;
+      const auto x = m.input_point(Mesh_side::target, m.source_vertex_to_target_input(all[k].source));
+      const double e = std::sqrt(CGAL::squared_distance(Point_3(x[0], x[1], x[2]),
+                                                        b0.point(Surface_mesh::Vertex_index(Surface_mesh::size_type(all[k].target))))) / scale;
       sum += e;
       *worst = std::max(*worst, e);
     }

@@ -600,8 +600,6 @@ public:
         used[0].insert(p.source);
         used[1].insert(p.target);
       }
-    std::array<double, 2> unit;
-    for (int k = 0; k < 2; ++k) unit[k] = std::sqrt(B_.side[k].area());
     auto nearest = [&](int k, std::size_t i) {
       std::size_t best = ext[1 - k].size();
       double bd = HUGE_VAL;
@@ -615,24 +613,15 @@ public:
       return best;
     };
     const internal::Layout_mesh& Lt = B_.side[1];
+    const double unit_t = std::sqrt(Lt.area());
     Feature_correspondence out;
     for (std::size_t i = 0; i < ext[0].size(); ++i) {
       const std::size_t j = nearest(0, i);
       if (j == ext[1].size() || nearest(1, j) != i) continue; // not mutual
       const WV vs = ext[0][i].first, vt = ext[1][j].first;
       // How far F sends the source extremity from its partner, over sqrt(target area).
-      const internal::Work_location l = locator_[1].locate(P_[0][vs]);
-      const internal::WH h = Lt.m.halfedge(l.face);
-      const auto& p0 = Lt.m.point(Lt.m.source(h));
-      const auto& p1 = Lt.m.point(Lt.m.target(h));
-      const auto& p2 = Lt.m.point(Lt.m.target(Lt.m.next(h)));
-      const auto& q = Lt.m.point(vt);
-      double e = 0;
-      for (int c = 0; c < 3; ++c) {
-        const double x = l.b[0] * p0[c] + l.b[1] * p1[c] + l.b[2] * p2[c] - q[c];
-        e += x * x;
-      }
-      e = std::sqrt(e) / unit[1];
+      const double e = std::sqrt(CGAL::squared_distance(internal::point_at(Lt.m, locator_[1].locate(P_[0][vs])),
+                                                        Lt.m.point(vt))) / unit_t;
       // The pair must be needed (F misses the partner by at least the extremity scale) and agree with the
       // descriptors better than F's own image does.
       const double agree = descriptor_distance(B_.side[0].desc[vs], Lt.desc[vt]);
