@@ -2,63 +2,104 @@
 // Compatible remeshing (paper §5) on the ../shared/bench cases: a table in the style of the paper's Table 2
 // (input sizes, output size, L2 error and PSNR from e(v), time), plus the independent two-sided Hausdorff
 // distance of the target-shaped output.
-// Usage: bench_remesh [BENCH_DIR] [TOLERANCE_PERCENT] [CASE_FILTER] (BENCH_DIR ../shared/bench_genus: genus > 0)
+// Usage: bench_remesh [BENCH_DIR] [TOLERANCES] [CASE_FILTER] (BENCH_DIR ../shared/bench_genus: genus > 0)
+//        bench_remesh --wide [TOLERANCES] [CASE_FILTER]: the cases of the wider bench (test/wide_cases.h) that
+//        are not ../shared/bench's (shrec, hand and tosca pairs), e.g. CASE_FILTER "tosca/" or "_k12".
+// TOLERANCES: one or several percentages separated by commas, e.g. 1,0.5,0.2,0.1 (default 0.5).
 #include <crossparam/compatible_remeshing.h>
 #include <crossparam/io.h>
 #include <crossparam/remeshing_verification.h>
 
 #include "bench_common.h"
+#include "../test/wide_cases.h"
 
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <sstream>
+#include <vector>
 #include <string>
 
 using namespace crossparam;
 namespace fs = std::filesystem;
 
+namespace {
+/// One case to remesh: its name, the meshes as given and the features.
+struct Remesh_case {
+  std::string name;
+  Surface_mesh source, target;
+  Feature_correspondence features;
+};
+
+/// One row per tolerance for case `c`: the map, the remeshing, the independent verification.
+void run(const Remesh_case& c, double tol) {
+  Surface_mesh s = c.source, t = c.target;
+  const std::size_t ns = s.number_of_vertices(), nt = t.number_of_vertices();
+  const auto t_start = std::chrono::steady_clock::now();
+  std::unique_ptr<Cross_parameterization<Surface_mesh, Surface_mesh>> map;
+  try {
+    map = std::make_unique<Cross_parameterization<Surface_mesh, Surface_mesh>>(s, t, c.features);
+  } catch (const Insufficient_features_error& e) { // genus > 0 with too few features: reported, not fatal
+    std::printf("| %s | %.3g | %zu/%zu | too few features: %s |\n", c.name.c_str(), tol, ns, nt, e.what());
+    return;
+  }
+  Cross_parameterization<Surface_mesh, Surface_mesh>& cp = *map;
+  std::function<void(const std::string&)> say;
+  if (std::getenv("CROSSPARAM_VERBOSE")) say = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+  Compatible_remesher<Surface_mesh, Surface_mesh> r(cp, crossparam::parameters::tolerance(tol, crossparam::parameters::progress(say)));
+  const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  const auto& S = r.statistics();
+  Surface_mesh os, ot;
+  r.copy_to(Mesh_side::source, os);
+  r.copy_to(Mesh_side::target, ot);
+  const Remeshing_verification v = verify_compatible_remeshing(c.source, c.target, os, ot, tol);
+  std::printf("| %s | %.3g | %zu/%zu | %zu | %+.1f%% | %.3f | %.3f | %zu | %zu / %.2f | %zu / %zu | %zu / %zu (%zu) | %s | %.2f | %.2f | %.2f |\n",
+              c.name.c_str(), tol, ns, nt, S.output_vertices, 100.0 * (double(S.output_vertices) - double(ns)) / double(ns),
+              S.l2_error, v.hausdorff_target, v.flipped_faces, v.faces_above_30, v.normal_deviation_above_30,
+              v.creases_output, v.creases_target, v.self_intersections_output, v.self_intersections_target,
+              v.new_self_intersections, v.valid ? "yes" : "**no**", S.seconds_cross_parameterization, S.seconds_total, total);
+  std::fflush(stdout);
+}
+
+std::vector<double> parse_tolerances(const std::string& list) {
+  std::vector<double> out;
+  std::stringstream in(list);
+  for (std::string item; std::getline(in, item, ',');) out.push_back(std::atof(item.c_str()));
+  return out;
+}
+} // namespace
+
 int main(int argc, char** argv) {
-  fs::path dir = argc > 1 ? fs::path(argv[1]) : fs::path(CROSSPARAM_SHARED_DIR) / "bench";
-  const double tol = argc > 2 ? std::atof(argv[2]) : 0.5;
+  const bool wide = argc > 1 && std::string(argv[1]) == "--wide";
+  fs::path dir = argc > 1 && !wide ? fs::path(argv[1]) : fs::path(CROSSPARAM_SHARED_DIR) / "bench";
+  const std::vector<double> tolerances = parse_tolerances(argc > 2 ? argv[2] : "0.5");
   const std::string filter = argc > 3 ? argv[3] : "";
-  const std::vector<fs::path> cases = bench::cases(dir, "bench_remesh");
-  std::printf("compatible remeshing, tolerance %.3g%% of the target's bbox diagonal, one run per case, assertions %s\n\n",
-              tol, bench::assertions());
-  std::printf("| case | input sizes (#v) | output size | added | L2 error (%%) | PSNR | max e(v) (%%) | Hausdorff (%%) | layout splits kept / undone | splits + pseudo flips + fold repair | flipped | normal dev. mean ° / >30° area %% | map (s) | remesh (s) | total (s) | map squeeze s/t |\n");
-  std::printf("|---|---|---:|---:|---:|---:|---:|---:|---|---|---:|---|---:|---:|---:|---|\n");
-  for (const fs::path& c : cases) {
-    if (!filter.empty() && c.filename().string().find(filter) == std::string::npos) continue;
-    Surface_mesh s, t;
-    read_triangle_mesh((c / "source.off").string(), s);
-    read_triangle_mesh((c / "target.off").string(), t);
-    const Surface_mesh s0 = s, t0 = t;
-    const std::size_t ns = s.number_of_vertices(), nt = t.number_of_vertices();
-    Feature_correspondence f = read_feature_pairs((c / "features.txt").string(), ns, nt);
-    const auto t_start = std::chrono::steady_clock::now();
-    std::unique_ptr<Cross_parameterization<Surface_mesh, Surface_mesh>> map;
-    try {
-      map = std::make_unique<Cross_parameterization<Surface_mesh, Surface_mesh>>(s, t, f);
-    } catch (const Insufficient_features_error& e) { // genus > 0 with too few features: reported, not fatal
-      std::printf("| %s | %zu/%zu | too few features: %s |\n", c.filename().string().c_str(), ns, nt, e.what());
-      continue;
+  std::printf("compatible remeshing, tolerance in %% of the target's bbox diagonal, one run per case, assertions %s\n\n",
+              bench::assertions());
+  std::printf("| case | tol. %% | input sizes (#v) | output size | added | L2 error (%%) | Hausdorff (%%) | flipped | >30°: faces / area %% | creases out / in | self-int. out / in (new) | valid | map (s) | remesh (s) | total (s) |\n");
+  std::printf("|---|---:|---|---:|---:|---:|---:|---:|---|---|---|---|---:|---:|---:|\n");
+  if (wide) {
+    for (const std::string& name : wide_bench::names()) {
+      if (wide_bench::family(name) == "bench" || name.find(filter) == std::string::npos) continue;
+      std::optional<wide_bench::Case> w = wide_bench::load(name);
+      if (!w) {
+        std::printf("| %s | data absent |\n", name.c_str());
+        continue;
+      }
+      const Remesh_case c{name, w->source, w->target, w->features};
+      for (const double tol : tolerances) run(c, tol);
     }
-    Cross_parameterization<Surface_mesh, Surface_mesh>& cp = *map;
-    std::function<void(const std::string&)> say;
-    if (std::getenv("CROSSPARAM_VERBOSE")) say = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
-    Compatible_remesher<Surface_mesh, Surface_mesh> r(cp, crossparam::parameters::tolerance(tol, crossparam::parameters::progress(say)));
-    const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-    const auto& S = r.statistics();
-    Surface_mesh os, ot;
-    r.copy_to(Mesh_side::source, os);
-    r.copy_to(Mesh_side::target, ot);
-    Remeshing_verification v = verify_compatible_remeshing(s0, t0, os, ot, tol);
-    std::printf("| %s | %zu/%zu | %zu | %+.1f%% | %.3f | %.1f | %.3f | %.3f | %zu / %zu | %zu + %zu + %zu | %zu | %.2f / %.2f | %.2f | %.2f | %.2f | %.1e / %.1e |%s\n",
-                c.filename().string().c_str(), ns, nt, S.output_vertices,
-                100.0 * (double(S.output_vertices) - double(ns)) / double(ns), S.l2_error, S.psnr, S.max_error,
-                v.hausdorff_target, S.layout_vertices - ns, S.layout_splits_undone, S.refinement_splits, S.pseudo_flips, S.fold_repair_splits, v.flipped_faces, v.normal_deviation_mean, v.normal_deviation_above_30, S.seconds_cross_parameterization,
-                S.seconds_total, total, cp.statistics().squeeze_source, cp.statistics().squeeze_target, v.valid ? "" : (" FAILED: " + v.message).c_str());
-    std::fflush(stdout);
+    return 0;
+  }
+  for (const fs::path& d : bench::cases(dir, "bench_remesh")) {
+    if (!filter.empty() && d.filename().string().find(filter) == std::string::npos) continue;
+    Remesh_case c;
+    c.name = d.filename().string();
+    read_triangle_mesh((d / "source.off").string(), c.source);
+    read_triangle_mesh((d / "target.off").string(), c.target);
+    c.features = read_feature_pairs((d / "features.txt").string(), c.source.number_of_vertices(), c.target.number_of_vertices());
+    for (const double tol : tolerances) run(c, tol);
   }
   return 0;
 }

@@ -27,6 +27,7 @@
 #include <crossparam/internal/remeshing/pseudo_flips.h>
 #include <crossparam/internal/remeshing/refinement.h>
 #include <crossparam/internal/remeshing/remesh_state.h>
+#include <crossparam/internal/remeshing/strict_repair.h>
 #include <crossparam/internal/remeshing/target_untangling.h>
 
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
@@ -108,6 +109,12 @@ struct Remeshing_statistics {
   std::size_t standard_untangle_moves = 0;  ///< vertices of the target-shaped mesh that second pass moved
   double standard_untangle_max_move = 0;    ///< its farthest move, percent of the target's diagonal
   double untangle_max_move = 0;      ///< the farthest such move, percent of the target's bounding-box diagonal
+  std::size_t strict_flipped_before = 0;      ///< faces flipped by the standard rule before the strict repair
+  std::size_t strict_intersecting_before = 0; ///< faces in new self-intersecting pairs before it
+  std::size_t strict_flipped_after = 0;       ///< and after it (the verifier decides: see remeshing_verification.h)
+  std::size_t strict_intersecting_after = 0;
+  std::size_t strict_splits = 0;              ///< vertices the strict repair added
+  unsigned strict_rounds = 0;                 ///< its refinement rounds
   unsigned smoothing_rounds = 0, refinement_rounds = 0;
   double tolerance = 0;              ///< ε, percent
   double max_error_initial = 0, l2_error_initial = 0; ///< e(v) of M_st right after the projection
@@ -118,7 +125,7 @@ struct Remeshing_statistics {
   std::size_t flipped_faces = 0;     ///< output faces whose normal opposes the target's where they land
   bool converged = false;            ///< max error and max chord error <= tolerance, and no flipped face
   double seconds_cross_parameterization = 0, seconds_smoothing = 0, seconds_refinement = 0, seconds_flips = 0,
-         seconds_gaps = 0, seconds_fold_repair = 0, seconds_untangle = 0, seconds_certificate = 0, seconds_total = 0;
+         seconds_gaps = 0, seconds_strict_repair = 0, seconds_fold_repair = 0, seconds_untangle = 0, seconds_certificate = 0, seconds_total = 0;
 };
 
 /// \brief Compatible remeshing (paper §5) of the two meshes of a cross-parameterization.
@@ -186,6 +193,7 @@ public:
     if (max_dev < 180 && !skip("the remeshing's pseudo flips")) pseudo_flip(s, max_dev); // §5.4
     if (!skip("the remeshing's untangling")) untangle(s); // folds left (additions to the paper)
     if (!skip("the remeshing's surface-distance step")) close_gaps(s); // the distance the verifier measures
+    if (!skip("the remeshing's strict repair")) strict_repair(s);        // the verifier's flip and intersection tests
     if (s.budget.expired()) say("remesh: time limit reached (best effort): the steps left are skipped");
     certify(s);                                      // the parameterization is still one-to-one
     finish(s, cp.statistics().seconds_total, t0);
@@ -339,6 +347,22 @@ private:
                 : ", every sample within " + fmt(internal::gap_sample_share * stats_.tolerance) + "%"));
   }
 
+  /// The last step (an addition to the paper): faces the verifier would reject (flipped by the standard
+  /// rule, or intersecting other faces where the target does not intersect itself) refined in the target's
+  /// metric and untangled (internal/remeshing/strict_repair.h). Not past four times the source's vertex count.
+  void strict_repair(State& s) {
+    const auto ts = clock::now();
+    const internal::Strict_repair_result r = internal::strict_repair(s, 4 * stats_.layout_vertices);
+    stats_.strict_flipped_before = r.flipped_before, stats_.strict_intersecting_before = r.intersecting_before;
+    stats_.strict_flipped_after = r.flipped_after, stats_.strict_intersecting_after = r.intersecting_after;
+    stats_.strict_splits = r.splits, stats_.strict_rounds = unsigned(r.rounds);
+    stats_.seconds_strict_repair = sec(ts, clock::now());
+    say("remesh: strict repair: " + std::to_string(r.flipped_before) + " flipped and " +
+        std::to_string(r.intersecting_before) + " intersecting faces before, " + std::to_string(r.flipped_after) +
+        " and " + std::to_string(r.intersecting_after) + " after; " + std::to_string(r.splits) + " vertices added in " +
+        std::to_string(r.rounds) + " rounds");
+  }
+
   /// Folds left (additions to the paper): untangled on the target, off F, which adds no vertex; where that
   /// leaves folds, the untangling is undone, the fold repair refines around those folds in the target's
   /// metric, and the untangling runs again.
@@ -362,7 +386,7 @@ private:
           " undone), " + std::to_string(s.n_flipped) + " flipped faces");
       record(s, untangler.run());
     }
-    // Then the faces flipped by the standard rule (the centroid's nearest point alone), which the verifier's
+    // Then the faces flipped by the standard rule (the centroid's nearest point alone), the verifier's, which the all-points
     // rule lets pass when one corner agrees: each untangling kept only where no face around a vertex it moved is
     // flipped by that rule, so no face is flipped by either rule that was not before.
     if (!s.budget.stop("the remeshing's untangling by the standard rule", [] { return std::string("not started"); })) {
@@ -372,7 +396,7 @@ private:
       internal::Untangle_result u = standard.run();
       const std::size_t verifier_after = untangler.count_flipped();
       // A guard (each kept untangling is checked around every vertex it moved, so this is not expected): a pass
-      // that leaves more faces flipped by the verifier's rule than before is undone whole.
+      // that leaves more faces folded by the all-points rule than before is undone whole.
       if (verifier_after > verifier_before) s.restore(kept), u = internal::Untangle_result();
       untangler.mark_flipped();
       stats_.standard_flips_untangled = u.folds_removed;

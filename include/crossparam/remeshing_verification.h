@@ -2,7 +2,8 @@
 // Independent checks of a compatible remeshing (paper §5), trusting nothing the remesher computed: the two
 // outputs share one face list; the target-shaped mesh is within the tolerance of the target by a two-sided
 // Hausdorff distance (CGAL's bounded-error algorithm, not the remesher's e(v)); the source-shaped mesh lies on
-// the source; no target-shaped face is flipped against the target surface where it lies.
+// the source; no target-shaped face is flipped against the target surface nearest it; no face pair of the
+// target-shaped mesh intersects where the target does not intersect itself.
 #ifndef CROSSPARAM_REMESHING_VERIFICATION_H
 #define CROSSPARAM_REMESHING_VERIFICATION_H
 
@@ -15,6 +16,7 @@
 #include <CGAL/Polygon_mesh_processing/compute_normal.h>
 #include <CGAL/Polygon_mesh_processing/distance.h>
 #include <CGAL/Polygon_mesh_processing/locate.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
 
 #include <cmath>
 #include <map>
@@ -24,19 +26,38 @@
 namespace crossparam {
 
 /// What `verify_compatible_remeshing` found. Distances in percent of the target's bounding-box diagonal
-/// (source distances: of the source's diagonal).
+/// (source distances: of the source's diagonal). The definitions are the field's usual ones (doc/algorithms.md,
+/// "Remeshing verification"):
+/// - a face of the target-shaped output is **flipped** when its normal and the target's normal at the point of
+///   the target nearest its centroid make an angle above 90°;
+/// - its **normal deviation** is that angle;
+/// - a **crease** is an edge whose two faces' normals make an angle above 150° (a dihedral angle below 30°: the
+///   faces are folded back onto each other); the output's creases are compared with the input target's;
+/// - a **self-intersection** is a pair of faces that intersect other than in their shared vertex or edge, as
+///   CGAL's `self_intersections` reports them (a degenerate face counts as a pair with itself).
 struct Remeshing_verification {
   bool compatible = false;          ///< same vertex count and the same face list
   double hausdorff_target = 0;      ///< two-sided Hausdorff distance, target-shaped output vs target
   double hausdorff_to_target = 0;   ///< one-sided parts of it: from the output to the target
   double hausdorff_from_target = 0; ///< and from the target to the output
   double hausdorff_source = 0;      ///< one-sided, from the source-shaped output to the source
-  std::size_t flipped_faces = 0;    ///< target-shaped faces whose normal opposes the target's under them
+  std::size_t flipped_faces = 0;    ///< target-shaped faces flipped (normal > 90° from the target's at the
+                                    ///< point nearest the centroid)
   double normal_deviation_mean = 0; ///< degrees: angle between each target-shaped face's normal and the target's
                                     ///< at the point nearest its centroid, mean weighted by face area
+  std::size_t faces_above_30 = 0;   ///< target-shaped faces where that angle exceeds 30°
   double normal_deviation_above_30 = 0; ///< percent of the target-shaped area where that angle exceeds 30°
-  bool valid = false;               ///< compatible, both distances within bounds, nothing flipped
-  std::string message;              ///< empty when valid
+  std::size_t creases_output = 0;   ///< edges of the target-shaped output whose faces' normals differ by > 150°
+  std::size_t creases_target = 0;   ///< the same count on the input target
+  std::size_t self_intersections_output = 0; ///< intersecting face pairs of the target-shaped output
+  std::size_t self_intersections_target = 0; ///< intersecting face pairs of the input target
+  std::size_t new_self_intersections = 0;    ///< output pairs away from the target's own: the pair's bounding box,
+                                             ///< grown by the tolerance, meets no intersecting face of the target
+  bool valid = false; ///< compatible, both distances within bounds, no flipped face, no new self-intersection
+  std::string message; ///< empty when valid
+
+  /// Creases of the output beyond those of the input target (0 if it has fewer).
+  std::size_t excess_creases() const { return creases_output > creases_target ? creases_output - creases_target : 0; }
 };
 
 namespace internal {
@@ -63,6 +84,42 @@ template <class Mesh>
 double bbox_diagonal(const Mesh& m) {
   CGAL::Bbox_3 b = CGAL::Polygon_mesh_processing::bbox(m);
   return std::sqrt(CGAL::square(b.xmax() - b.xmin()) + CGAL::square(b.ymax() - b.ymin()) + CGAL::square(b.zmax() - b.zmin()));
+}
+
+/// Edges of `m` whose two faces' normals make an angle above `degrees` (degenerate faces skipped).
+template <class Mesh>
+std::size_t count_creases(const Mesh& m, double degrees) {
+  const double c = std::cos(degrees * CGAL_PI / 180);
+  std::size_t n = 0;
+  auto normal = [&m](auto h) {
+    return triangle_normal(get(CGAL::vertex_point, m, source(h, m)), get(CGAL::vertex_point, m, target(h, m)),
+                           get(CGAL::vertex_point, m, target(next(h, m), m)));
+  };
+  for (auto e : edges(m)) {
+    const auto h = halfedge(e, m), o = opposite(h, m);
+    if (is_border(h, m) || is_border(o, m)) continue;
+    const auto a = normal(h), b = normal(o);
+    const double la = std::sqrt(a.squared_length()), lb = std::sqrt(b.squared_length());
+    if (la > 0 && lb > 0 && a * b < c * la * lb) ++n;
+  }
+  return n;
+}
+
+/// The intersecting face pairs of triangle mesh `m` (CGAL's `self_intersections`).
+template <class Mesh>
+std::vector<std::pair<typename boost::graph_traits<Mesh>::face_descriptor, typename boost::graph_traits<Mesh>::face_descriptor>>
+self_intersecting_pairs(const Mesh& m) {
+  std::vector<std::pair<typename boost::graph_traits<Mesh>::face_descriptor, typename boost::graph_traits<Mesh>::face_descriptor>> out;
+  CGAL::Polygon_mesh_processing::self_intersections(faces(m), m, std::back_inserter(out));
+  return out;
+}
+
+/// Bounding box of face f of m.
+template <class Mesh>
+CGAL::Bbox_3 face_bbox(const Mesh& m, typename boost::graph_traits<Mesh>::face_descriptor f) {
+  CGAL::Bbox_3 b;
+  for (auto v : CGAL::vertices_around_face(halfedge(f, m), m)) b += get(CGAL::vertex_point, m, v).bbox();
+  return b;
 }
 
 } // namespace internal
@@ -108,8 +165,6 @@ Remeshing_verification verify_compatible_remeshing(const Mesh& src, const Mesh& 
       typename boost::property_traits<typename boost::property_map<Mesh, CGAL::vertex_point_t>::const_type>::value_type>::Kernel, Primitive>>;
   Tree tree(faces(tgt).first, faces(tgt).second, tgt);
   tree.accelerate_distance_queries();
-  // A face is flipped if its normal opposes the target's at the points nearest its centroid and its corners
-  // (internal::flipped_against_nearest; a face across a sharp crease agrees with one side: a chord, not a flip).
   auto target_normal = [&tgt](auto f) {
     auto g = halfedge(f, tgt);
     return internal::triangle_normal(get(CGAL::vertex_point, tgt, source(g, tgt)), get(CGAL::vertex_point, tgt, target(g, tgt)),
@@ -121,22 +176,45 @@ Remeshing_verification verify_compatible_remeshing(const Mesh& src, const Mesh& 
     const auto a = get(CGAL::vertex_point, out_target, source(h, out_target));
     const auto b = get(CGAL::vertex_point, out_target, target(h, out_target));
     const auto c = get(CGAL::vertex_point, out_target, target(next(h, out_target), out_target));
-    if (internal::flipped_against_nearest(tree, target_normal, a, b, c)) ++r.flipped_faces;
-    // Normal deviation (paper §5.4), at the point of the target nearest the centroid.
+    // The target's normal at the point of the target nearest the centroid; a degenerate output face (no
+    // normal) is counted by the self-intersection test.
     const auto n = internal::triangle_normal(a, b, c), nt = target_normal(tree.closest_point_and_primitive(CGAL::centroid(a, b, c)).second);
     const double ln = std::sqrt(n.squared_length()), lt = std::sqrt(nt.squared_length());
     if (!(ln > 0 && lt > 0)) continue;
     const double angle = std::acos(std::max(-1.0, std::min(1.0, (n * nt) / (ln * lt)))) * 180 / CGAL_PI;
+    r.flipped_faces += n * nt < 0;
+    r.faces_above_30 += angle > 30;
     area += ln, weighted += ln * angle, above += angle > 30 ? ln : 0;
   }
   if (area > 0) r.normal_deviation_mean = weighted / area, r.normal_deviation_above_30 = 100 * above / area;
+  r.creases_output = internal::count_creases(out_target, 150.0);
+  r.creases_target = internal::count_creases(tgt, 150.0);
+  // Self-intersections: the output's, less those near the target's own (a target that intersects itself is
+  // approximated by an output that does too, within the tolerance of where it does).
+  const auto pairs_out = internal::self_intersecting_pairs(out_target), pairs_in = internal::self_intersecting_pairs(tgt);
+  r.self_intersections_output = pairs_out.size();
+  r.self_intersections_target = pairs_in.size();
+  if (!pairs_out.empty()) {
+    std::vector<CGAL::Bbox_3> inherited;
+    for (const auto& p : pairs_in) inherited.push_back(internal::face_bbox(tgt, p.first)), inherited.push_back(internal::face_bbox(tgt, p.second));
+    const double grow = tolerance / 100 * dt;
+    for (const auto& p : pairs_out) {
+      CGAL::Bbox_3 b = internal::face_bbox(out_target, p.first) + internal::face_bbox(out_target, p.second);
+      b = CGAL::Bbox_3(b.xmin() - grow, b.ymin() - grow, b.zmin() - grow, b.xmax() + grow, b.ymax() + grow, b.zmax() + grow);
+      bool near = false;
+      for (const CGAL::Bbox_3& q : inherited)
+        if ((near = CGAL::do_overlap(b, q))) break;
+      r.new_self_intersections += !near;
+    }
+  }
   r.valid = r.compatible && r.hausdorff_target <= tolerance && r.hausdorff_source <= source_bound &&
-            r.flipped_faces == 0;
+            r.flipped_faces == 0 && r.new_self_intersections == 0;
   if (!r.valid) {
     r.message = std::string(r.compatible ? "" : "outputs are not compatible; ") + "target Hausdorff " +
                 std::to_string(r.hausdorff_target) + "% (" + std::to_string(r.hausdorff_to_target) + "% to it, " +
                 std::to_string(r.hausdorff_from_target) + "% from it; tolerance " + std::to_string(tolerance) + "%), source " +
-                std::to_string(r.hausdorff_source) + "%, " + std::to_string(r.flipped_faces) + " flipped faces";
+                std::to_string(r.hausdorff_source) + "%, " + std::to_string(r.flipped_faces) + " flipped faces, " +
+                std::to_string(r.new_self_intersections) + " new self-intersecting face pairs";
   }
   return r;
 }

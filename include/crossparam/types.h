@@ -111,17 +111,6 @@ auto triangle_normal(const P& a, const P& b, const P& c) {
   return CGAL::cross_product(b - a, c - a);
 }
 
-/// The flip rule of the remeshing verification: triangle (a, b, c) is flipped against a surface if its normal
-/// opposes the surface's at the points of the surface nearest its centroid and each of its corners (a face
-/// across a sharp crease of the surface agrees with one side of it: a chord, not a flip). `tree`: an AABB tree
-/// of the surface's faces; `face_normal(f)`: the normal of its face f (any length).
-template <class Tree, class FaceNormal, class P>
-bool flipped_against_nearest(const Tree& tree, const FaceNormal& face_normal, const P& a, const P& b, const P& c) {
-  const auto n = triangle_normal(a, b, c);
-  for (const P& p : {CGAL::centroid(a, b, c), a, b, c})
-    if (!(n * face_normal(tree.closest_point_and_primitive(p).second) < 0)) return false;
-  return true;
-}
 } // namespace internal
 
 } // namespace crossparam

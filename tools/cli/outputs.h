@@ -348,9 +348,12 @@ inline void print_remesh_summary(const Options& o, const Remeshing_statistics& S
             << (within ? "within" : "NOT within") << " the tolerance " << format_number(o.tolerance) << "%; "
             << format_number(seconds) << " s\n";
   std::cout << "remesh: verification: the source-shaped output within " << format_number(check.hausdorff_source)
-            << "% of the source, " << check.flipped_faces << " flipped faces, normals "
+            << "% of the source, " << check.flipped_faces << " flipped faces, "
+            << check.new_self_intersections << " new self-intersecting face pairs (" << check.self_intersections_output
+            << " in all, " << check.self_intersections_target << " in the target), normals "
             << format_number(check.normal_deviation_mean) << " degrees off on average, "
-            << format_number(check.normal_deviation_above_30) << "% of the area beyond 30 degrees ("
+            << format_number(check.normal_deviation_above_30) << "% of the area beyond 30 degrees, "
+            << check.excess_creases() << " creases beyond the target's ("
             << format_number(verify_s) << " s)" << (check.valid ? "" : "; NOT valid: " + check.message) << "\n";
   std::cout << "remesh: the remesher's own measure, e(v) = |F'(F^-1(v)) - v| (the distance between corresponding "
                "points, never less than the distance between the surfaces): max "
@@ -400,6 +403,10 @@ inline Remeshing_verification write_remesh(const Options& o, const Map& cp, cons
     j.member("standard_rule_removed", S.standard_flips_untangled).member("standard_rule_left", S.standard_flips_left);
     j.member("standard_rule_vertices_moved", S.standard_untangle_moves).member("standard_rule_max_move_percent", S.standard_untangle_max_move);
     j.member("max_move_percent", S.untangle_max_move).end_object();
+    j.key("strict_repair").begin_object().member("flipped_before", S.strict_flipped_before);
+    j.member("intersecting_before", S.strict_intersecting_before).member("flipped_after", S.strict_flipped_after);
+    j.member("intersecting_after", S.strict_intersecting_after).member("vertices_added", S.strict_splits);
+    j.member("passes", S.strict_rounds).end_object();
     j.key("surface_gaps").begin_object().member("sampled_max_before_percent", S.gap_before).member("vertices_added", S.gap_vertices);
     j.member("rounds", S.gap_rounds).member("samples_left", S.gap_samples_left).end_object();
     j.member("tolerance_percent", S.tolerance);
@@ -413,7 +420,12 @@ inline Remeshing_verification write_remesh(const Options& o, const Map& cp, cons
     j.member("hausdorff_percent", check.hausdorff_target).member("hausdorff_source_percent", check.hausdorff_source);
     j.member("flipped_faces", check.flipped_faces);
     j.member("normal_deviation_mean_degrees", check.normal_deviation_mean);
+    j.member("faces_above_30", check.faces_above_30);
     j.member("normal_deviation_above_30_percent", check.normal_deviation_above_30);
+    j.member("creases_output", check.creases_output).member("creases_target", check.creases_target);
+    j.member("self_intersections_output", check.self_intersections_output);
+    j.member("self_intersections_target", check.self_intersections_target);
+    j.member("new_self_intersections", check.new_self_intersections);
     j.member("seconds", verify_s).end_object();
     j.key("iterations").begin_object().member("smoothing_rounds", S.smoothing_rounds).member("refinement_rounds", S.refinement_rounds).end_object();
     j.key("seconds").begin_object().member("read", read_s).member("protrusion_probe", C.seconds_probe);

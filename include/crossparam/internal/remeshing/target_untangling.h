@@ -40,11 +40,11 @@ public:
 
   /// The fold rules the untangling works to.
   enum class Rule {
-    verifier, ///< the remeshing verifier's: the normal opposes the target's at the points nearest the centroid and every corner
-    standard  ///< the standard one: the normal opposes the target's at the point nearest the centroid
+    all_points, ///< a fold: the normal opposes the target's at the points nearest the centroid and every corner
+    standard    ///< a flip by the standard rule, the verifier's: the normal opposes the target's at the point nearest the centroid
   };
 
-  explicit Target_untangler(Remesh_state& state, Rule rule = Rule::verifier)
+  explicit Target_untangler(Remesh_state& state, Rule rule = Rule::all_points)
       : s(state), rule_(rule), tree(CGAL::faces(state.target.m).first, CGAL::faces(state.target.m).second, state.target.m) {
     tree.accelerate_distance_queries();
   }
@@ -55,13 +55,27 @@ public:
     for (WF f : s.mesh.m.faces()) n += flipped_on_target(f);
     return n;
   }
+  /// The untangling of run() around face f of M_st, flipped or not (a pleat: faces folded over each other with
+  /// normals that agree with the target's): a planar chart of a ring around f, else a flattened disk. Returns
+  /// whether an untangling was kept.
+  bool untangle_around(WF f) {
+    std::vector<char> moved(s.mesh.m.number_of_vertices(), 0);
+    int r = untangle_in_rings(f, moved);
+    for (double size : {1.0, 1.5, 2.0})
+      if (r <= 0 && !s.budget.expired()) r = untangle_on_surface(f, size, moved);
+    return r > 0;
+  }
+  /// The point of the target nearest p, and its face.
+  std::pair<Point_3, WF> nearest(const Point_3& p) const { return tree.closest_point_and_primitive(p); }
+  /// Whether face f of M_st is flipped by this untangler's rule.
+  bool flipped(WF f) const { return flipped_on_target(f); }
   /// Sets `s.folded` and `s.n_flipped` by this untangler's rule.
   void mark_flipped() {
     s.n_flipped = 0;
     for (WF f : s.mesh.m.faces()) s.n_flipped += (s.folded[f] = flipped_on_target(f));
   }
 
-  /// Untangles the folds of M_st along the target. Every face is tested by the verifier's rule
+  /// Untangles the folds of M_st along the target. Every face is tested by this untangler's rule
   /// (flipped_on_target()), which also sets `s.folded` and `s.n_flipped`. Where F is this anisotropic, no M_st that is F of a one-to-one M_s avoids the
   /// fold (doc/algorithms.md, "Where F is strongly anisotropic"), so these vertices of the target-shaped mesh leave F: they move along the
   /// target, their source vertices stay. Each folded face f is untangled in a chart of the target with the
@@ -98,8 +112,8 @@ public:
   }
 
 private:
-  /// Whether face f of M_st is flipped by the rule of the independent verifier (internal::flipped_against_nearest:
-  /// its normal opposes the target's at the points of the target nearest its centroid and each corner), taken
+  /// Whether face f of M_st is flipped by this untangler's rule (its normal opposes the target's at the point of
+  /// the target nearest its centroid, and with Rule::all_points at those nearest each corner too), taken
   /// strictly: where such a point lies on an edge or at a vertex of the target, the verifier may take any face
   /// through it, so the point counts as opposing if one of them opposes (Remesh_state::opposes()).
   bool flipped_on_target(WF f) const {
@@ -246,7 +260,7 @@ private:
   /// and are left out) and mapped back onto the target (`from_chart(v, p, location)`, false if it cannot).
   /// The region is kept if every face of it stays within 0.9 ε of the target (centroid and edge midpoints,
   /// closest points) and, unless `relayout` (whose caller finishes and checks the region), if the untangler
-  /// left no triangle inverted and none of the faces it moved is flipped by the independent verifier's rule;
+  /// left no triangle inverted and none of the faces it moved is flipped by this untangler's rule;
   /// otherwise it is restored. 1 if kept, 0 if not.
   template <class ToChart, class FromChart>
   int untangle_in_chart(const std::set<WF>& region, const ToChart& to_chart,

@@ -1,0 +1,262 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The strict repair (an addition to the paper): the last step of the remeshing, which works to the definitions
+// of the independent verifier (remeshing_verification.h). A face of M_st is bad when it is flipped by the
+// standard rule (its normal more than 90° from the target's at the point of the target nearest its centroid)
+// or when it belongs to a pair of faces that intersect away from where the target intersects itself. Bad
+// faces are refined in the target's metric, new vertices at F of source points (the map is one-to-one and
+// orientation preserving, so a fine enough M_st follows the target), and what the refinement leaves flipped
+// is untangled along the target.
+#ifndef CROSSPARAM_INTERNAL_REMESHING_STRICT_REPAIR_H
+#define CROSSPARAM_INTERNAL_REMESHING_STRICT_REPAIR_H
+
+#include <crossparam/internal/remeshing/fold_repair.h>
+#include <crossparam/internal/remeshing/remesh_state.h>
+#include <crossparam/internal/remeshing/target_untangling.h>
+
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/property_map.h>
+
+#include <algorithm>
+#include <array>
+#include <optional>
+#include <set>
+#include <utility>
+#include <vector>
+
+namespace crossparam {
+namespace internal {
+
+/// What strict_repair() did.
+struct Strict_repair_result {
+  std::size_t flipped_before = 0;           ///< faces flipped by the standard rule when it started
+  std::size_t intersecting_before = 0;      ///< faces in new self-intersecting pairs when it started
+  std::size_t flipped_after = 0;            ///< and when it ended
+  std::size_t intersecting_after = 0;
+  std::size_t splits = 0;                   ///< vertices it added
+  std::size_t rounds = 0;                   ///< refinement rounds
+};
+
+/// The faces of M_st that the verifier would reject, found with the same definitions.
+class Strict_checker {
+public:
+  /// M_st's points as a property map of the source's vertices.
+  auto positions() const { return CGAL::make_property_map(s.pos); }
+  /// `eps`: the tolerance in working coordinates (a pair of M_st's faces that intersect within `eps` of an
+  /// intersecting face of the target is the target's own, as the verifier counts it).
+  Strict_checker(Remesh_state& state, Target_untangler& standard) : s(state), flips(standard) {
+    std::vector<std::pair<WF, WF>> pairs;
+    CGAL::Polygon_mesh_processing::self_intersections(faces(s.target.m), s.target.m, std::back_inserter(pairs));
+    for (const auto& p : pairs)
+      for (WF f : {p.first, p.second}) {
+        CGAL::Bbox_3 b;
+        for (WV v : CGAL::vertices_around_face(s.target.m.halfedge(f), s.target.m)) b += s.target.m.point(v).bbox();
+        target_pairs.push_back(b);
+      }
+  }
+
+  /// Per face of M_st: whether it is flipped by the standard rule or in a new self-intersecting pair; counts
+  /// of both in `flipped` and `intersecting`.
+  std::vector<char> bad_faces(std::size_t& flipped, std::size_t& intersecting) const {
+    const auto& m = s.mesh.m;
+    std::vector<char> bad(m.number_of_faces(), 0);
+    flipped = 0, intersecting = 0;
+    for (WF f : m.faces())
+      if (flips.flipped(f)) bad[f] = 1, ++flipped;
+    const Work_mesh& image = m; // M_st: the source's connectivity at the points s.pos
+    std::vector<std::pair<WF, WF>> pairs;
+    CGAL::Polygon_mesh_processing::self_intersections(faces(image), image, std::back_inserter(pairs),
+                                                      CGAL::parameters::vertex_point_map(positions()));
+    const double grow = s.eps;
+    for (const auto& p : pairs) {
+      CGAL::Bbox_3 b;
+      for (WF f : {p.first, p.second})
+        for (WV v : CGAL::vertices_around_face(image.halfedge(f), image)) b += s.pos[v].bbox();
+      b = CGAL::Bbox_3(b.xmin() - grow, b.ymin() - grow, b.zmin() - grow, b.xmax() + grow, b.ymax() + grow, b.zmax() + grow);
+      if (std::any_of(target_pairs.begin(), target_pairs.end(), [&](const CGAL::Bbox_3& q) { return CGAL::do_overlap(b, q); }))
+        continue;
+      for (WF f : {p.first, p.second}) intersecting += !(bad[f] & 2), bad[f] |= 2;
+    }
+    return bad;
+  }
+
+  /// The bad figure of a region: faces of `region` flipped by the standard rule, plus the face pairs with a
+  /// face in `region` that intersect away from the target's own intersections.
+  std::size_t local_bad(const std::vector<WF>& region) const {
+    const auto& m = s.mesh.m;
+    std::size_t n = 0;
+    CGAL::Bbox_3 box;
+    for (WF f : region) {
+      n += flips.flipped(f);
+      box += face_box(f);
+    }
+    std::vector<char> in(m.number_of_faces(), 0);
+    for (WF f : region) in[f] = 1;
+    std::vector<WF> candidates;
+    for (WF f : m.faces())
+      if (CGAL::do_overlap(box, face_box(f))) candidates.push_back(f);
+    std::vector<std::pair<WF, WF>> pairs;
+    CGAL::Polygon_mesh_processing::self_intersections(candidates, m, std::back_inserter(pairs),
+                                                      CGAL::parameters::vertex_point_map(positions()));
+    for (const auto& p : pairs)
+      if ((in[p.first] || in[p.second]) && !near_target_pair(face_box(p.first) + face_box(p.second))) ++n;
+    return n;
+  }
+
+private:
+  CGAL::Bbox_3 face_box(WF f) const {
+    const auto& m = s.mesh.m;
+    CGAL::Bbox_3 b;
+    for (WV v : CGAL::vertices_around_face(m.halfedge(f), m)) b += s.pos[v].bbox();
+    return b;
+  }
+  bool near_target_pair(CGAL::Bbox_3 b) const {
+    const double g = s.eps;
+    b = CGAL::Bbox_3(b.xmin() - g, b.ymin() - g, b.zmin() - g, b.xmax() + g, b.ymax() + g, b.zmax() + g);
+    return std::any_of(target_pairs.begin(), target_pairs.end(), [&](const CGAL::Bbox_3& q) { return CGAL::do_overlap(b, q); });
+  }
+
+  Remesh_state& s;
+  Target_untangler& flips;
+  std::vector<CGAL::Bbox_3> target_pairs;
+};
+
+/// The faces around the corners of f and their neighbours (f's two-ring of faces).
+inline std::vector<WF> two_ring(const Remesh_state& s, WF f) {
+  const auto& m = s.mesh.m;
+  std::vector<WV> ring;
+  for (WV v : CGAL::vertices_around_face(m.halfedge(f), m))
+    for (WV w : CGAL::vertices_around_target(m.halfedge(v), m)) ring.push_back(w);
+  std::vector<WF> out;
+  for (WV v : ring)
+    for (WF g : CGAL::faces_around_target(m.halfedge(v), m))
+      if (g != WF()) out.push_back(g);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+/// One repair of bad face f: with `to_f`, f's corners that an earlier step moved off F are put back at F;
+/// then f is refined: its longest edge on M_st split near the middle (Remesh_state::split_near_middle(): the
+/// parameterization stays one-to-one, exact test; up to two more folds by the all-corners rule are let
+/// through, the transaction judging the result), and the faces of that split still flipped split again, up
+/// to `depth` levels. Returns the vertices the repair made.
+inline std::vector<WV> repair_face(Remesh_state& s, Target_untangler& flips, WF f, int to_f,
+                                   int depth, const std::vector<WF>& region) {
+  auto& m = s.mesh.m;
+  auto back_to_f = [&](WV v) {
+    if (s.mesh.vfeature[v] != no_feature) return;
+    const Corner c = s.corner_at(s.param[v]);
+    s.img[v] = c.img, s.pos[v] = c.pos;
+  };
+  if (to_f == 1)
+    for (WV v : CGAL::vertices_around_face(m.halfedge(f), m)) back_to_f(v);
+  if (to_f == 2)
+    for (WF g : region)
+      for (WV v : CGAL::vertices_around_face(m.halfedge(g), m)) back_to_f(v);
+  std::vector<WV> made;
+  std::vector<WF> todo{f};
+  s.fold_slack = 2;
+
+  for (int level = 0; level < depth && !todo.empty(); ++level) {
+    std::vector<WF> next;
+    for (WF g : todo) {
+      std::vector<std::pair<double, WH>> es;
+      for (WH h : CGAL::halfedges_around_face(m.halfedge(g), m))
+        es.push_back({-CGAL::squared_distance(s.pos[m.source(h)], s.pos[m.target(h)]), h});
+      std::sort(es.begin(), es.end());
+      for (const auto& e : es)
+        if (s.split_near_middle(m.source(e.second), m.target(e.second), 7)) {
+          const WV w = WV(m.number_of_vertices() - 1);
+          made.push_back(w);
+          for (WF k : CGAL::faces_around_target(m.halfedge(w), m))
+            if (k != WF() && flips.flipped(k)) next.push_back(k);
+          break;
+        }
+    }
+    todo = std::move(next);
+  }
+  s.fold_slack = 0;
+  return made;
+}
+
+/// The strict repair: each bad face of M_st (Strict_checker) repaired by repair_face() as a transaction, kept
+/// only if the bad figure of the region around it (Strict_checker::local_bad() over its two-ring, before and
+/// after) goes down: first as M_st is, then with its corners back at F. Passes over the bad faces until a
+/// pass keeps nothing, at most `max_passes`, and not past `max_vertices` vertices. No repair that is kept
+/// adds a bad face in its region, so the result has no more bad faces than M_st had.
+inline Strict_repair_result strict_repair(Remesh_state& s, std::size_t max_vertices, unsigned max_passes = 8) {
+  auto& m = s.mesh.m;
+  Target_untangler standard(s, Target_untangler::Rule::standard);
+  Strict_checker check(s, standard);
+  Strict_repair_result r;
+  const std::size_t v0 = m.number_of_vertices();
+  std::size_t flipped = 0, intersecting = 0;
+  std::vector<char> bad = check.bad_faces(flipped, intersecting);
+  r.flipped_before = flipped, r.intersecting_before = intersecting;
+  constexpr int depth = 6; // levels of splits of one repair
+  // Faces whose every repair failed, by their corners: not tried again (their region is judged the same way).
+  std::set<std::array<WV, 3>> failed;
+  auto corners = [&m](WF f) {
+    const WH h = m.halfedge(f);
+    return std::array<WV, 3>{m.source(h), m.target(h), m.target(m.next(h))};
+  };
+  for (unsigned pass = 0; pass < max_passes && flipped + intersecting > 0; ++pass) {
+    std::vector<WF> todo;
+    for (WF f : m.faces())
+      if (bad[f] && !failed.count(corners(f))) todo.push_back(f);
+    std::size_t kept = 0;
+    for (WF f : todo) {
+      if (m.number_of_vertices() >= max_vertices) break;
+      if (s.budget.stop("the remeshing's strict repair", [&] {
+            return "pass " + std::to_string(pass + 1) + " of at most " + std::to_string(max_passes);
+          }))
+        break;
+      const std::vector<WF> region = two_ring(s, f);
+      const std::size_t before = check.local_bad(region);
+      if (before == 0) continue; // repaired with an earlier face
+      bool done = false;
+      for (int to_f : {-1, 0, 1, 2}) {
+        // The untangling only moves vertices: its undo needs M_st's points alone.
+        std::optional<Remesh_state::Checkpoint> cp;
+        if (to_f >= 0) cp = s.checkpoint();
+        const Remesh_state::Images images = s.images();
+        if (to_f < 0) {
+          if (!standard.untangle_around(f)) continue;
+        } else if (repair_face(s, standard, f, to_f, depth, region).empty() && to_f == 0) {
+          s.rollback(*cp);
+          continue;
+        }
+        // Judged over the region and every face around a vertex the repair moved or made.
+        std::vector<WF> after = region;
+        for (std::size_t i = 0; i < m.number_of_vertices(); ++i)
+          if (i >= images.pos.size() || s.pos[i] != images.pos[i])
+            for (WF g : CGAL::faces_around_target(m.halfedge(WV(i)), m))
+              if (g != WF()) after.push_back(g);
+        std::sort(after.begin(), after.end());
+        after.erase(std::unique(after.begin(), after.end()), after.end());
+        if (check.local_bad(after) < before) {
+          done = true;
+          break;
+        }
+        if (cp) s.rollback(*cp);
+        s.restore(images);
+      }
+      if (done) ++kept;
+      else failed.insert(corners(f));
+    }
+    s.folded.resize(m.number_of_faces(), 0);
+    bad = check.bad_faces(flipped, intersecting);
+    ++r.rounds;
+    if (kept == 0) break;
+  }
+  s.folded.resize(m.number_of_faces(), 0);
+  standard.mark_flipped();
+  r.flipped_after = flipped, r.intersecting_after = intersecting;
+  r.splits = m.number_of_vertices() - v0;
+  return r;
+}
+
+} // namespace internal
+} // namespace crossparam
+
+#endif // CROSSPARAM_INTERNAL_REMESHING_STRICT_REPAIR_H
