@@ -60,6 +60,7 @@ void run(const Remesh_case& c, double tol) {
               v.creases_output, v.creases_target, v.self_intersections_output, v.self_intersections_target,
               v.new_self_intersections, v.valid ? "yes" : "**no**", S.seconds_cross_parameterization, S.seconds_total, total);
   std::fflush(stdout);
+  if (!v.valid && std::getenv("CROSSPARAM_VERBOSE")) std::fprintf(stderr, "%s: %s\n", c.name.c_str(), v.message.c_str());
 }
 
 std::vector<double> parse_tolerances(const std::string& list) {

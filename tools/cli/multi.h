@@ -99,7 +99,7 @@ inline int run_multi_remesh(const Options& o) {
     checks[m] = verify_compatible_remeshing(meshes[S.source], meshes[m], outs[S.source], outs[m], o.tolerance);
     if (!checks[m].valid) {
       all_valid = false;
-      std::cerr << "crossparam: warning: output " << m << " misses its tolerance: " << checks[m].message << "\n";
+      std::cerr << "crossparam: output " << m << " fails its independent verification: " << checks[m].message << "\n";
     }
   }
   const double verify_s = tv.seconds();
@@ -139,10 +139,11 @@ inline int run_multi_remesh(const Options& o) {
       if (m != S.source)
         std::cout << "  mesh " << m << ": Hausdorff " << format_number(checks[m].hausdorff_target) << "% (tolerance "
                   << format_number(o.tolerance) << "%), " << checks[m].flipped_faces << " flipped faces"
-                  << (checks[m].valid ? "" : " (NOT within the tolerance)") << "\n";
+                  << ", " << checks[m].new_self_intersections << " new self-intersecting face pairs"
+                  << (checks[m].valid ? "" : " (NOT valid)") << "\n";
     std::cout << "  " << format_number(S.seconds_total) << " s; wrote " << o.output << "/\n";
   }
-  return 0;
+  return all_valid ? 0 : failed_verification(o, "see the outputs above");
 }
 
 /// A list of numbers "a,b,c", or a usage error naming `option`.

@@ -179,11 +179,14 @@ inline std::vector<WV> repair_face(Remesh_state& s, Target_untangler& flips, WF 
   return made;
 }
 
-/// The strict repair: each bad face of M_st (Strict_checker) repaired by repair_face() as a transaction, kept
-/// only if the bad figure of the region around it (Strict_checker::local_bad() over its two-ring, before and
-/// after) goes down: first as M_st is, then with its corners back at F. Passes over the bad faces until a
-/// pass keeps nothing, at most `max_passes`, and not past `max_vertices` vertices. No repair that is kept
-/// adds a bad face in its region, so the result has no more bad faces than M_st had.
+/// The strict repair: each bad face of M_st (Strict_checker) repaired as a transaction, kept only if the bad
+/// figure of the region around it (Strict_checker::local_bad() over its two-ring and the faces around every
+/// vertex the repair moved or made) goes below that of the two-ring before. The repairs, in order, the first
+/// kept: the untangling around it (Target_untangler::untangle_around()); repair_face() as M_st is, with its
+/// corners back at F, and with its two-ring back at F. Passes over the bad faces until a pass keeps nothing,
+/// at most `max_passes`, and not past `max_vertices` vertices; a face whose every repair failed is not tried
+/// again. No repair that is kept adds a bad face in its region, so the result has no more bad faces than M_st
+/// had.
 inline Strict_repair_result strict_repair(Remesh_state& s, std::size_t max_vertices, unsigned max_passes = 8) {
   auto& m = s.mesh.m;
   Target_untangler standard(s, Target_untangler::Rule::standard);
@@ -193,7 +196,9 @@ inline Strict_repair_result strict_repair(Remesh_state& s, std::size_t max_verti
   std::size_t flipped = 0, intersecting = 0;
   std::vector<char> bad = check.bad_faces(flipped, intersecting);
   r.flipped_before = flipped, r.intersecting_before = intersecting;
-  constexpr int depth = 6; // levels of splits of one repair
+  // Levels of splits of one repair: six take a face down to about an eighth of its size (two levels halve
+  // it), enough where F is smooth at that scale; where it is not, deeper splits at F make new folds.
+  constexpr int depth = 6;
   // Faces whose every repair failed, by their corners: not tried again (their region is judged the same way).
   std::set<std::array<WV, 3>> failed;
   auto corners = [&m](WF f) {
