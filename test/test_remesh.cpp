@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <iostream>
+#include <map>
 #include <random>
 #include <set>
 
@@ -322,13 +323,26 @@ TEST_P(BenchRemesh, CompatibleAndClose) {
   EXPECT_LT(o.stats.l2_error, 0.4);
   EXPECT_LT(o.stats.l2_error, o.stats.l2_error_initial);
   // The bench figures (doc/results.md): Hausdorff within the tolerance 0.5 %; 14-48 % added vertices; normals
-  // deviating more than 30° from the target's on 0.7-2.4 % of the area. The strict checks (flipped faces by
-  // the standard rule, new self-intersections) are not met on every case: their aggregate is pinned by
-  // BenchRemeshStrict below; the verifier's own count of flips must agree with the one made here.
+  // deviating more than 30° from the target's on 0.7-2.4 % of the area. The verifier's own count of flips must
+  // agree with the one made here.
   EXPECT_LE(o.check.hausdorff_target, 0.5) << o.check.message;
   EXPECT_LE(o.check.flipped_faces, o.standard_flips + 5) << o.check.message;
   EXPECT_LE(o.standard_flips, o.check.flipped_faces + 5) << o.check.message;
   EXPECT_LT(o.check.normal_deviation_above_30, 3.0);
+  // The strict checks, pinned per case at what the remesher reaches (doc/results.md): valid where it is, and
+  // elsewhere no more flipped faces (standard rule) and new self-intersecting pairs than measured, so that a
+  // change that trades one case for another fails. Measured: horse0_horse7 128 / 1247, lion_cat 17 / 5,
+  // shrec_383_385 134 / 3707; the other three valid.
+  const std::map<std::string, std::pair<std::size_t, std::size_t>> strict{
+      {"horse0_horse7", {135, 1300}}, {"lion_cat", {20, 8}}, {"shrec_383_385", {140, 3800}}};
+  RecordProperty("flipped_faces", int(o.check.flipped_faces));
+  RecordProperty("new_self_intersections", int(o.check.new_self_intersections));
+  if (const auto it = strict.find(GetParam()); it != strict.end()) {
+    EXPECT_LE(o.check.flipped_faces, it->second.first);
+    EXPECT_LE(o.check.new_self_intersections, it->second.second);
+  } else {
+    EXPECT_TRUE(o.check.valid) << o.check.message;
+  }
   // The untangling on the target runs before the fold repair: on yang_cat_horse it removes all 55 folds left
   // after §5.4 with no vertex added (moves along the target below 2.5 % of the diagonal), on shrec_381_382
   // all 4, two of them in a disk chart of the leg where F is squeezed (a larger region, moved further).
@@ -419,39 +433,6 @@ TEST(RemeshFamily, StrictChecksOnGeneratedPairs) {
     valid += o.check.valid;
   }
   std::cout << "[ family ] " << valid << " of " << pairs.size() << " valid\n";
-}
-
-// The strict checks of the verifier over the six bench cases at ε = 0.5 %: faces flipped by the standard rule
-// and self-intersecting face pairs that the target does not have. Not yet zero on every case (doc/results.md),
-// so the number of valid cases and the mean and worst of both figures are pinned over the whole set, so that
-// a change that trades some cases for others fails.
-TEST(BenchRemeshStrict, MeanAndWorstOverTheBench) {
-  double mean_flips = 0, mean_pairs = 0;
-  std::size_t worst_flips = 0, worst_pairs = 0, valid = 0, n = 0;
-  for (const std::string& name : test_bench::names()) {
-    std::optional<test_bench::Case> c = test_bench::load(name);
-    if (!c) GTEST_SKIP() << test_bench::absent(name);
-    const Outcome o = remesh_and_verify(c->source, c->target, c->features, 0.5);
-    EXPECT_LE(o.check.hausdorff_target, 0.5) << name << ": " << o.check.message;
-    mean_flips += double(o.check.flipped_faces);
-    mean_pairs += double(o.check.new_self_intersections);
-    worst_flips = std::max(worst_flips, o.check.flipped_faces);
-    worst_pairs = std::max(worst_pairs, o.check.new_self_intersections);
-    valid += o.check.valid;
-    ++n;
-  }
-  ASSERT_EQ(n, 6u);
-  mean_flips /= double(n), mean_pairs /= double(n);
-  std::cout << "[ remesh ] strict checks at 0.5 %: " << valid << " of 6 valid; flipped faces mean " << mean_flips
-            << ", worst " << worst_flips << "; new self-intersecting pairs mean " << mean_pairs << ", worst "
-            << worst_pairs << "\n";
-  // Measured: 3 of 6 valid (shrec_381_382, wolf0_wolf2, yang_cat_horse); flipped mean 46.5, worst 134
-  // (shrec_383_385); new pairs mean 826.5, worst 3707 (shrec_383_385).
-  EXPECT_GE(valid, 3u);
-  EXPECT_LE(mean_flips, 50.0);
-  EXPECT_LE(worst_flips, 140u);
-  EXPECT_LE(mean_pairs, 850.0);
-  EXPECT_LE(worst_pairs, 3800u);
 }
 
 INSTANTIATE_TEST_SUITE_P(Shared, BenchRemesh,
