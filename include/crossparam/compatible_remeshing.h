@@ -122,7 +122,8 @@ struct Remeshing_statistics {
   double max_chord_error = 0;        ///< largest distance of an output edge midpoint or face centroid from the
                                      ///< image of the same source point on the target
   double psnr = 0;                   ///< 20 log10(diagonal / L2 error), as the paper's Table 2
-  std::size_t flipped_faces = 0;     ///< output faces whose normal opposes the target's where they land
+  std::size_t flipped_faces = 0;     ///< output faces flipped by the standard rule (normal > 90° from the target's
+                                     ///< at the point nearest the centroid), the remesher's own count
   bool converged = false;            ///< max error and max chord error <= tolerance, and no flipped face
   double seconds_cross_parameterization = 0, seconds_smoothing = 0, seconds_refinement = 0, seconds_flips = 0,
          seconds_gaps = 0, seconds_strict_repair = 0, seconds_fold_repair = 0, seconds_untangle = 0, seconds_certificate = 0, seconds_total = 0;
@@ -145,15 +146,18 @@ struct Remeshing_statistics {
 /// passes and at most one split per source edge and target vertex), refinement stopped at four times the
 /// source's vertex count; one pseudo-flip pass over the edges; one fold repair attempt per folded face; one
 /// local untangling per folded face, over rings of at most 8 faces around it; at most 8 rounds of the
-/// surface-distance step, each adding at most one vertex per face. The `time_limit` is checked at
-/// every round and at every folded face; when it runs out the constructor throws `Time_limit_error`, or, with
-/// `best_effort`, ends the step under way with the state reached, skips the improving steps left (pseudo flips,
-/// fold repair, untangling, surface distance) and certifies and returns that result.
+/// surface-distance step, each adding at most one vertex per face; at most 8 passes of the strict repair, one
+/// repair attempt (four kinds) per face the verifier's checks reject, not past four times the source's vertex
+/// count. The `time_limit` is checked at every round and at every folded face; when it runs out the constructor
+/// throws `Time_limit_error`, or, with `best_effort`, ends the step under way with the state reached, skips the
+/// improving steps left (pseudo flips, fold repair, untangling, surface distance, strict repair) and certifies
+/// and returns that result.
 ///
 /// The steps, in order (the constructor runs them): the projection and its error (§5.1), adaptive smoothing
 /// and refinement (§5.2-5.3), pseudo edge flips (§5.4), the untangling on the target with the fold repair, the
-/// two-sided surface distance sampled on both meshes and closed where a sample lies beyond 0.9 ε, the
-/// certificate, the outputs. Each step is in `internal/remeshing/`, on one state object.
+/// two-sided surface distance sampled on both meshes and closed where a sample lies beyond 0.9 ε, the strict
+/// repair of the faces the verifier would reject (flipped by the standard rule, or in new self-intersecting
+/// pairs), the certificate, the outputs. Each step is in `internal/remeshing/`, on one state object.
 ///
 /// \tparam SourceMesh, TargetMesh the mesh types of the cross-parameterization
 template <class SourceMesh, class TargetMesh>
