@@ -33,7 +33,7 @@ struct Strict_repair_result {
   std::size_t flipped_after = 0;            ///< and when it ended
   std::size_t intersecting_after = 0;
   std::size_t splits = 0;                   ///< vertices it added
-  std::size_t rounds = 0;                   ///< refinement rounds
+  std::size_t rounds = 0;                   ///< passes over the bad faces
 };
 
 /// The faces of M_st that the verifier would reject, found with the same definitions.
@@ -41,8 +41,8 @@ class Strict_checker {
 public:
   /// M_st's points as a property map of the source's vertices.
   auto positions() const { return CGAL::make_property_map(s.pos); }
-  /// `eps`: the tolerance in working coordinates (a pair of M_st's faces that intersect within `eps` of an
-  /// intersecting face of the target is the target's own, as the verifier counts it).
+  /// Finds the target's own intersecting faces once: a pair of M_st's faces that intersect within ε of one
+  /// of them is the target's own, as the verifier counts it.
   Strict_checker(Remesh_state& state, Target_untangler& standard) : s(state), flips(standard) {
     std::vector<std::pair<WF, WF>> pairs;
     CGAL::Polygon_mesh_processing::self_intersections(faces(s.target.m), s.target.m, std::back_inserter(pairs));
@@ -62,18 +62,11 @@ public:
     flipped = 0, intersecting = 0;
     for (WF f : m.faces())
       if (flips.flipped(f)) bad[f] = 1, ++flipped;
-    const Work_mesh& image = m; // M_st: the source's connectivity at the points s.pos
-    std::vector<std::pair<WF, WF>> pairs;
-    CGAL::Polygon_mesh_processing::self_intersections(faces(image), image, std::back_inserter(pairs),
+    std::vector<std::pair<WF, WF>> pairs; // M_st: the source's connectivity at the points s.pos
+    CGAL::Polygon_mesh_processing::self_intersections(faces(m), m, std::back_inserter(pairs),
                                                       CGAL::parameters::vertex_point_map(positions()));
-    const double grow = s.eps;
     for (const auto& p : pairs) {
-      CGAL::Bbox_3 b;
-      for (WF f : {p.first, p.second})
-        for (WV v : CGAL::vertices_around_face(image.halfedge(f), image)) b += s.pos[v].bbox();
-      b = CGAL::Bbox_3(b.xmin() - grow, b.ymin() - grow, b.zmin() - grow, b.xmax() + grow, b.ymax() + grow, b.zmax() + grow);
-      if (std::any_of(target_pairs.begin(), target_pairs.end(), [&](const CGAL::Bbox_3& q) { return CGAL::do_overlap(b, q); }))
-        continue;
+      if (near_target_pair(face_box(p.first) + face_box(p.second))) continue;
       for (WF f : {p.first, p.second}) intersecting += !(bad[f] & 2), bad[f] |= 2;
     }
     return bad;
