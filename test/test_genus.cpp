@@ -575,7 +575,7 @@ TEST_P(GenusBench, MapAndRemesh) {
             << " | g " << genus << " | " << f.size() << " features | layout verified | certified "
             << (certified ? "yes" : "NO") << " | features exact " << (exact ? "yes" : "NO") << " | remesh "
             << (v.valid ? "valid" : "not valid: " + v.message) << " (Hausdorff " << v.hausdorff_target
-            << "%, flipped " << v.flipped_faces << ") | error vs truth "
+            << "%, flipped " << v.flipped_faces << ", " << v.flipped_at_target_folds << " at the target's folds) | error vs truth "
             << (mean_error < 0 ? std::string("-") : std::to_string(mean_error)) << " | map " << seconds_map
             << " s, remesh " << seconds_remesh << " s\n";
 }

@@ -363,7 +363,7 @@ private:
     stats_.seconds_strict_repair = sec(ts, clock::now());
     say("remesh: strict repair: " + std::to_string(r.flipped_before) + " flipped and " +
         std::to_string(r.intersecting_before) + " intersecting faces before, " + std::to_string(r.flipped_after) +
-        " and " + std::to_string(r.intersecting_after) + " after; " + std::to_string(r.splits) + " vertices added in " +
+        " and " + std::to_string(r.intersecting_after) + " after; " + std::to_string(r.flips) + " edge flips, " + std::to_string(r.splits) + " vertices added in " +
         std::to_string(r.rounds) + " rounds");
   }
 

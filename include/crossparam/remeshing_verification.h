@@ -2,8 +2,9 @@
 // Independent checks of a compatible remeshing (paper §5), trusting nothing the remesher computed: the two
 // outputs share one face list; the target-shaped mesh is within the tolerance of the target by a two-sided
 // Hausdorff distance (CGAL's bounded-error algorithm, not the remesher's e(v)); the source-shaped mesh lies on
-// the source; no target-shaped face is flipped against the target surface nearest it; no face pair of the
-// target-shaped mesh intersects where the target does not intersect itself.
+// the source; no target-shaped face is flipped against the target surface nearest it, away from where the
+// target folds itself; no face pair of the target-shaped mesh intersects where the target does not intersect
+// itself.
 #ifndef CROSSPARAM_REMESHING_VERIFICATION_H
 #define CROSSPARAM_REMESHING_VERIFICATION_H
 
@@ -43,6 +44,9 @@ struct Remeshing_verification {
   double hausdorff_source = 0;      ///< one-sided, from the source-shaped output to the source
   std::size_t flipped_faces = 0;    ///< target-shaped faces flipped (normal > 90° from the target's at the
                                     ///< point nearest the centroid)
+  std::size_t flipped_at_target_folds = 0; ///< of those, the faces whose centroid's nearest point lies within
+                                           ///< the tolerance of a fold of the target itself: a target face on
+                                           ///< a crease (above) or in a self-intersecting pair of the target
   double normal_deviation_mean = 0; ///< degrees: angle between each target-shaped face's normal and the target's
                                     ///< at the point nearest its centroid, mean weighted by face area
   std::size_t faces_above_30 = 0;   ///< target-shaped faces where that angle exceeds 30°
@@ -51,11 +55,15 @@ struct Remeshing_verification {
   std::size_t creases_target = 0;   ///< the same count on the input target
   std::size_t self_intersections_output = 0; ///< intersecting face pairs of the target-shaped output
   std::size_t self_intersections_target = 0; ///< intersecting face pairs of the input target
-  std::size_t new_self_intersections = 0;    ///< output pairs away from the target's own: the pair's bounding box,
-                                             ///< grown by the tolerance, meets no intersecting face of the target
-  bool valid = false; ///< compatible, both distances within bounds, no flipped face, no new self-intersection
+  std::size_t new_self_intersections = 0;    ///< output pairs away from the target's own folds: the pair's
+                                             ///< bounding box, grown by the tolerance, meets no face of the
+                                             ///< target on a crease or in a self-intersecting pair
+  bool valid = false; ///< compatible, both distances within bounds, no flipped face away from the target's own
+                      ///< folds, no new self-intersection
   std::string message; ///< empty when valid
 
+  /// Flipped faces away from the target's own folds: the flips the input does not have.
+  std::size_t new_flipped_faces() const { return flipped_faces - flipped_at_target_folds; }
   /// Creases of the output beyond those of the input target (0 if it has fewer).
   std::size_t excess_creases() const { return creases_output > creases_target ? creases_output - creases_target : 0; }
 };
@@ -122,6 +130,35 @@ CGAL::Bbox_3 face_bbox(const Mesh& m, typename boost::graph_traits<Mesh>::face_d
   return b;
 }
 
+/// Bounding boxes of the faces of m on its folds: the two faces of every edge whose faces' normals make an
+/// angle above 150° (a crease), and the faces of every self-intersecting pair `pairs` of m.
+template <class Mesh, class Pairs>
+std::vector<CGAL::Bbox_3> fold_face_boxes(const Mesh& m, const Pairs& pairs) {
+  const double c = std::cos(150.0 * CGAL_PI / 180);
+  auto normal = [&m](auto h) {
+    return triangle_normal(get(CGAL::vertex_point, m, source(h, m)), get(CGAL::vertex_point, m, target(h, m)),
+                           get(CGAL::vertex_point, m, target(next(h, m), m)));
+  };
+  std::vector<CGAL::Bbox_3> out;
+  for (auto e : edges(m)) {
+    const auto h = halfedge(e, m), o = opposite(h, m);
+    if (is_border(h, m) || is_border(o, m)) continue;
+    const auto a = normal(h), b = normal(o);
+    const double la = std::sqrt(a.squared_length()), lb = std::sqrt(b.squared_length());
+    if (la > 0 && lb > 0 && a * b < c * la * lb) out.push_back(face_bbox(m, face(h, m))), out.push_back(face_bbox(m, face(o, m)));
+  }
+  for (const auto& p : pairs) out.push_back(face_bbox(m, p.first)), out.push_back(face_bbox(m, p.second));
+  return out;
+}
+
+/// Whether box b, grown by g on every side, meets one of `boxes`.
+inline bool meets_grown(CGAL::Bbox_3 b, double g, const std::vector<CGAL::Bbox_3>& boxes) {
+  b = CGAL::Bbox_3(b.xmin() - g, b.ymin() - g, b.zmin() - g, b.xmax() + g, b.ymax() + g, b.zmax() + g);
+  for (const CGAL::Bbox_3& q : boxes)
+    if (CGAL::do_overlap(b, q)) return true;
+  return false;
+}
+
 } // namespace internal
 
 /// Whether two meshes have the same number of vertices and the same faces (as vertex index triples, in order).
@@ -170,6 +207,12 @@ Remeshing_verification verify_compatible_remeshing(const Mesh& src, const Mesh& 
     return internal::triangle_normal(get(CGAL::vertex_point, tgt, source(g, tgt)), get(CGAL::vertex_point, tgt, target(g, tgt)),
                                      get(CGAL::vertex_point, tgt, target(next(g, tgt), tgt)));
   };
+  // The target's own folds, its faces on creases or in self-intersecting pairs: there the target's two sides
+  // come closer than any tolerance, its normal is no reference, and an output within the tolerance of the
+  // target may be flipped against it, or intersect itself, where it folds.
+  const auto pairs_in = internal::self_intersecting_pairs(tgt);
+  const std::vector<CGAL::Bbox_3> target_folds = internal::fold_face_boxes(tgt, pairs_in);
+  const double grow = tolerance / 100 * dt;
   double area = 0, weighted = 0, above = 0;
   for (auto f : faces(out_target)) {
     auto h = halfedge(f, out_target);
@@ -178,42 +221,38 @@ Remeshing_verification verify_compatible_remeshing(const Mesh& src, const Mesh& 
     const auto c = get(CGAL::vertex_point, out_target, target(next(h, out_target), out_target));
     // The target's normal at the point of the target nearest the centroid; a degenerate output face (no
     // normal) is counted by the self-intersection test.
-    const auto n = internal::triangle_normal(a, b, c), nt = target_normal(tree.closest_point_and_primitive(CGAL::centroid(a, b, c)).second);
+    const auto nearest = tree.closest_point_and_primitive(CGAL::centroid(a, b, c));
+    const auto n = internal::triangle_normal(a, b, c), nt = target_normal(nearest.second);
     const double ln = std::sqrt(n.squared_length()), lt = std::sqrt(nt.squared_length());
     if (!(ln > 0 && lt > 0)) continue;
     const double angle = std::acos(std::max(-1.0, std::min(1.0, (n * nt) / (ln * lt)))) * 180 / CGAL_PI;
-    r.flipped_faces += n * nt < 0;
+    if (n * nt < 0) {
+      ++r.flipped_faces;
+      r.flipped_at_target_folds += internal::meets_grown(nearest.first.bbox(), grow, target_folds);
+    }
     r.faces_above_30 += angle > 30;
     area += ln, weighted += ln * angle, above += angle > 30 ? ln : 0;
   }
   if (area > 0) r.normal_deviation_mean = weighted / area, r.normal_deviation_above_30 = 100 * above / area;
   r.creases_output = internal::count_creases(out_target, 150.0);
   r.creases_target = internal::count_creases(tgt, 150.0);
-  // Self-intersections: the output's, less those near the target's own (a target that intersects itself is
-  // approximated by an output that does too, within the tolerance of where it does).
-  const auto pairs_out = internal::self_intersecting_pairs(out_target), pairs_in = internal::self_intersecting_pairs(tgt);
+  // Self-intersections: the output's, less those near the target's own folds (a target that intersects itself,
+  // or folds onto itself at a crease so that its two sides are closer than the tolerance, is approximated
+  // within the tolerance by an output that may intersect itself there).
+  const auto pairs_out = internal::self_intersecting_pairs(out_target);
   r.self_intersections_output = pairs_out.size();
   r.self_intersections_target = pairs_in.size();
-  if (!pairs_out.empty()) {
-    std::vector<CGAL::Bbox_3> inherited;
-    for (const auto& p : pairs_in) inherited.push_back(internal::face_bbox(tgt, p.first)), inherited.push_back(internal::face_bbox(tgt, p.second));
-    const double grow = tolerance / 100 * dt;
-    for (const auto& p : pairs_out) {
-      CGAL::Bbox_3 b = internal::face_bbox(out_target, p.first) + internal::face_bbox(out_target, p.second);
-      b = CGAL::Bbox_3(b.xmin() - grow, b.ymin() - grow, b.zmin() - grow, b.xmax() + grow, b.ymax() + grow, b.zmax() + grow);
-      bool near = false;
-      for (const CGAL::Bbox_3& q : inherited)
-        if ((near = CGAL::do_overlap(b, q))) break;
-      r.new_self_intersections += !near;
-    }
-  }
+  for (const auto& p : pairs_out)
+    r.new_self_intersections +=
+        !internal::meets_grown(internal::face_bbox(out_target, p.first) + internal::face_bbox(out_target, p.second), grow, target_folds);
   r.valid = r.compatible && r.hausdorff_target <= tolerance && r.hausdorff_source <= source_bound &&
-            r.flipped_faces == 0 && r.new_self_intersections == 0;
+            r.new_flipped_faces() == 0 && r.new_self_intersections == 0;
   if (!r.valid) {
     r.message = std::string(r.compatible ? "" : "outputs are not compatible; ") + "target Hausdorff " +
                 std::to_string(r.hausdorff_target) + "% (" + std::to_string(r.hausdorff_to_target) + "% to it, " +
                 std::to_string(r.hausdorff_from_target) + "% from it; tolerance " + std::to_string(tolerance) + "%), source " +
-                std::to_string(r.hausdorff_source) + "%, " + std::to_string(r.flipped_faces) + " flipped faces, " +
+                std::to_string(r.hausdorff_source) + "%, " + std::to_string(r.new_flipped_faces()) +
+                " flipped faces away from the target's own folds (" + std::to_string(r.flipped_faces) + " in all), " +
                 std::to_string(r.new_self_intersections) + " new self-intersecting face pairs";
   }
   return r;

@@ -121,6 +121,7 @@ inline int run_multi_remesh(const Options& o) {
       j.begin_object().member("input", o.positional[m]).member("input_vertices", counts[m]);
       if (m != S.source) {
         j.member("hausdorff_percent", checks[m].hausdorff_target).member("flipped_faces", checks[m].flipped_faces);
+        j.member("flipped_at_target_folds", checks[m].flipped_at_target_folds);
         j.member("new_self_intersections", checks[m].new_self_intersections);
         j.member("valid", checks[m].valid).member("fitted_vertices", S.fitted_vertices[m]).member("max_chord_percent", S.max_chord_error[m]);
         j.member("seconds_map", S.seconds_map[m]).member("seconds_fit", S.seconds_fit[m]);
@@ -411,7 +412,8 @@ inline int run_transfer(const Options& o) {
     j.member("texture", image).member("texture_coordinates_max_deviation", worst);
     j.member("attribute_columns", attribute_columns);
     j.key("verification").begin_object().member("valid", check.valid).member("hausdorff_percent", check.hausdorff_target);
-    j.member("flipped_faces", check.flipped_faces).member("new_self_intersections", check.new_self_intersections).end_object();
+    j.member("flipped_faces", check.flipped_faces).member("flipped_at_target_folds", check.flipped_at_target_folds);
+    j.member("new_self_intersections", check.new_self_intersections).end_object();
     j.key("seconds").begin_object().member("read", read_s).member("map", cp.statistics().seconds_total);
     j.member("remesh", S.seconds_total).end_object();
   });

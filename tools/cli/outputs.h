@@ -348,7 +348,8 @@ inline void print_remesh_summary(const Options& o, const Remeshing_statistics& S
             << (within ? "within" : "NOT within") << " the tolerance " << format_number(o.tolerance) << "%; "
             << format_number(seconds) << " s\n";
   std::cout << "remesh: verification: the source-shaped output within " << format_number(check.hausdorff_source)
-            << "% of the source, " << check.flipped_faces << " flipped faces, "
+            << "% of the source, " << check.flipped_faces << " flipped faces (" << check.flipped_at_target_folds
+            << " at the target's own folds), "
             << check.new_self_intersections << " new self-intersecting face pairs (" << check.self_intersections_output
             << " in all, " << check.self_intersections_target << " in the target), normals "
             << format_number(check.normal_deviation_mean) << " degrees off on average, "
@@ -418,7 +419,7 @@ inline Remeshing_verification write_remesh(const Options& o, const Map& cp, cons
     j.member("certificate", r.certificate().valid);
     j.key("verification").begin_object().member("valid", check.valid).member("compatible", check.compatible);
     j.member("hausdorff_percent", check.hausdorff_target).member("hausdorff_source_percent", check.hausdorff_source);
-    j.member("flipped_faces", check.flipped_faces);
+    j.member("flipped_faces", check.flipped_faces).member("flipped_at_target_folds", check.flipped_at_target_folds);
     j.member("normal_deviation_mean_degrees", check.normal_deviation_mean);
     j.member("faces_above_30", check.faces_above_30);
     j.member("normal_deviation_above_30_percent", check.normal_deviation_above_30);

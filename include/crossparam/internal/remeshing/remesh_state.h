@@ -13,6 +13,8 @@
 #include <crossparam/internal/parallel.h>
 #include <crossparam/internal/time_budget.h>
 
+#include <CGAL/boost/graph/Euler_operations.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -386,6 +388,68 @@ public:
     const WV w = mesh.split_edge(u, v, t);
     commit(w, cw);
     if (repairing) fold_total += fold_change, made.push_back(w);
+    return true;
+  }
+
+  /// Whether edge (u, v) of halfedge h can be flipped into (x, y), x and y its opposite corners, keeping the
+  /// source's surface and the parameterization one-to-one: both faces lie in one input face (so the four
+  /// vertices are coplanar on the source), the edge is on no layout path, both new faces are positively
+  /// oriented in that input face's plane (exact test on the vertices' barycentric coordinates there: the
+  /// quadrilateral is strictly convex) and over the base mesh (exact test).
+  bool flip_keeps_source(WH h) const {
+    const auto& m = mesh.m;
+    const WH o = m.opposite(h);
+    if (m.is_border(h) || m.is_border(o) || mesh.epath[m.edge(h)] != no_path) return false;
+    const int orig = mesh.forig[m.face(h)];
+    if (orig < 0 || mesh.forig[m.face(o)] != orig) return false;
+    const WV u = m.source(h), v = m.target(h), x = m.target(m.next(h)), y = m.target(m.next(o));
+    if (x == y || m.halfedge(x, y) != WH()) return false;
+    std::array<Kernel::Point_2, 4> q; // u, v, x, y in the input face's barycentric plane
+    const WV vs[4] = {u, v, x, y};
+    for (int i = 0; i < 4; ++i) {
+      std::array<double, 3> b;
+      if (!mesh.rep_in(vs[i], orig, b)) return false;
+      q[i] = Kernel::Point_2(b[1], b[2]);
+    }
+    const CGAL::Orientation side = CGAL::orientation(q[0], q[1], q[2]);
+    if (side == CGAL::COLLINEAR || CGAL::orientation(q[1], q[0], q[3]) != side ||
+        CGAL::orientation(q[0], q[3], q[2]) != side || CGAL::orientation(q[1], q[2], q[3]) != side)
+      return false;
+    const Base_mesh& B = *param.base;
+    return B.triangle_orientation(param[u], param[y], param[x]) == CGAL::POSITIVE &&
+           B.triangle_orientation(param[v], param[x], param[y]) == CGAL::POSITIVE;
+  }
+
+  /// Flips edge (u, v) of halfedge h into (x, y), x and y its opposite corners, where that keeps the source's
+  /// surface exactly: both faces lie in one input face (so the four vertices are coplanar on the source), the
+  /// edge is on no layout path, and both new faces are positively oriented in that input face's plane (exact
+  /// test on the vertices' barycentric coordinates there; the quadrilateral is strictly convex). The
+  /// parameterization must stay one-to-one, M_st gain no fold (acceptable()), and the new faces follow the
+  /// target (their edge's midpoint and centroids within ε/2 of F there). No vertex moves and none is
+  /// added: F is kept at every vertex. Returns whether it flipped.
+  bool flip(WH h) {
+    auto& m = mesh.m;
+    if (!flip_keeps_source(h)) return false;
+    const WH o = m.opposite(h);
+    const WV u = m.source(h), v = m.target(h), x = m.target(m.next(h)), y = m.target(m.next(o));
+    const Corner cu = corner(u), cv = corner(v), cx = corner(x), cy = corner(y);
+    if (!acceptable(std::array<Face_plan, 2>{{{&cu, &cv, &cx}, {&cv, &cu, &cy}}},
+                    std::array<Face_plan, 2>{{{&cu, &cy, &cx}, {&cv, &cx, &cy}}}))
+      return false;
+    // The new faces follow the target: the new edge's midpoint and both centroids within ε/2 of F of the same
+    // source point, so that the flip brings no part of the output farther from the target.
+    const Base_mesh& B = *param.base;
+    const double lim2 = 0.25 * eps * eps;
+    Base_location w;
+    if (!B.interpolate({&cx.loc, &cy.loc, &cu.loc}, {0.5, 0.5, 0.0}, w) ||
+        CGAL::squared_distance(CGAL::midpoint(cx.pos, cy.pos), corner_at(w).pos) > lim2)
+      return false;
+    for (const Corner* c : {&cu, &cv})
+      if (!B.interpolate({&cx.loc, &cy.loc, &c->loc}, {1.0 / 3, 1.0 / 3, 1.0 / 3}, w) ||
+          CGAL::squared_distance(CGAL::centroid(cx.pos, cy.pos, c->pos), corner_at(w).pos) > lim2)
+        return false;
+    touch(u, v);
+    CGAL::Euler::flip_edge(h, m);
     return true;
   }
 

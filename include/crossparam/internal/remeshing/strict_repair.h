@@ -2,16 +2,19 @@
 // The strict repair (an addition to the paper): the last step of the remeshing, which works to the definitions
 // of the independent verifier (remeshing_verification.h). A face of M_st is bad when it is flipped by the
 // standard rule (its normal more than 90° from the target's at the point of the target nearest its centroid)
-// or when it belongs to a pair of faces that intersect away from where the target intersects itself. Bad
-// faces are refined in the target's metric, new vertices at F of source points (the map is one-to-one and
-// orientation preserving, so a fine enough M_st follows the target), and what the refinement leaves flipped
-// is untangled along the target.
+// or when it belongs to a pair of faces that intersect away from where the target folds itself (its faces on
+// creases or in self-intersecting pairs, remeshing_verification.h). Bad
+// faces get edge flips that keep the source's surface, then refinement in the target's metric, new vertices at
+// F of source points (the map is one-to-one and orientation preserving, so a fine enough M_st follows the
+// target), and what the refinement leaves flipped is untangled along the target. Flips at the target's own
+// folds are repaired too, although the verifier lets them pass: the fewer the better.
 #ifndef CROSSPARAM_INTERNAL_REMESHING_STRICT_REPAIR_H
 #define CROSSPARAM_INTERNAL_REMESHING_STRICT_REPAIR_H
 
 #include <crossparam/internal/remeshing/fold_repair.h>
 #include <crossparam/internal/remeshing/remesh_state.h>
 #include <crossparam/internal/remeshing/target_untangling.h>
+#include <crossparam/remeshing_verification.h>
 
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/property_map.h>
@@ -34,6 +37,7 @@ struct Strict_repair_result {
   std::size_t intersecting_after = 0;
   std::size_t splits = 0;                   ///< vertices it added
   std::size_t rounds = 0;                   ///< passes over the bad faces
+  std::size_t flips = 0;                    ///< edge flips kept (Remesh_state::flip())
 };
 
 /// The faces of M_st that the verifier would reject, found with the same definitions.
@@ -41,17 +45,12 @@ class Strict_checker {
 public:
   /// M_st's points as a property map of the source's vertices.
   auto positions() const { return CGAL::make_property_map(s.pos); }
-  /// Finds the target's own intersecting faces once: a pair of M_st's faces that intersect within ε of one
-  /// of them is the target's own, as the verifier counts it.
+  /// Finds the target's own folds once (its faces on creases or in self-intersecting pairs): a pair of M_st's
+  /// faces that intersect within ε of one of them is the target's own, as the verifier counts it.
   Strict_checker(Remesh_state& state, Target_untangler& standard) : s(state), flips(standard) {
     std::vector<std::pair<WF, WF>> pairs;
     CGAL::Polygon_mesh_processing::self_intersections(faces(s.target.m), s.target.m, std::back_inserter(pairs));
-    for (const auto& p : pairs)
-      for (WF f : {p.first, p.second}) {
-        CGAL::Bbox_3 b;
-        for (WV v : CGAL::vertices_around_face(s.target.m.halfedge(f), s.target.m)) b += s.target.m.point(v).bbox();
-        target_pairs.push_back(b);
-      }
+    target_folds = fold_face_boxes(s.target.m, pairs);
   }
 
   /// Per face of M_st: whether it is flipped by the standard rule or in a new self-intersecting pair; counts
@@ -73,7 +72,7 @@ public:
   }
 
   /// The bad figure of a region: faces of `region` flipped by the standard rule, plus the face pairs with a
-  /// face in `region` that intersect away from the target's own intersections.
+  /// face in `region` that intersect away from the target's own folds.
   std::size_t local_bad(const std::vector<WF>& region) const {
     const auto& m = s.mesh.m;
     std::size_t n = 0;
@@ -102,15 +101,11 @@ private:
     for (WV v : CGAL::vertices_around_face(m.halfedge(f), m)) b += s.pos[v].bbox();
     return b;
   }
-  bool near_target_pair(CGAL::Bbox_3 b) const {
-    const double g = s.eps;
-    b = CGAL::Bbox_3(b.xmin() - g, b.ymin() - g, b.zmin() - g, b.xmax() + g, b.ymax() + g, b.zmax() + g);
-    return std::any_of(target_pairs.begin(), target_pairs.end(), [&](const CGAL::Bbox_3& q) { return CGAL::do_overlap(b, q); });
-  }
+  bool near_target_pair(const CGAL::Bbox_3& b) const { return meets_grown(b, s.eps, target_folds); }
 
   Remesh_state& s;
   Target_untangler& flips;
-  std::vector<CGAL::Bbox_3> target_pairs;
+  std::vector<CGAL::Bbox_3> target_folds; ///< the target's faces on creases or in self-intersecting pairs
 };
 
 /// The faces around the corners of f and their neighbours (f's two-ring of faces).
@@ -213,6 +208,22 @@ inline Strict_repair_result strict_repair(Remesh_state& s, std::size_t max_verti
       const std::size_t before = check.local_bad(region);
       if (before == 0) continue; // repaired with an earlier face
       bool done = false;
+      // First the flips of f's edges that keep the source's surface (Remesh_state::flip()): F stays at every
+      // vertex and nothing is added.
+      std::vector<WE> edges;
+      for (WH h : CGAL::halfedges_around_face(m.halfedge(f), m)) edges.push_back(m.edge(h));
+      for (WE e : edges) {
+        if (!s.flip(m.halfedge(e))) continue;
+        if (check.local_bad(region) < before) {
+          done = true;
+          break;
+        }
+        CGAL::Euler::flip_edge(m.halfedge(e), m); // undone: the same two faces again
+      }
+      if (done) {
+        ++kept, ++r.flips;
+        continue;
+      }
       for (int to_f : {-1, 0, 1, 2}) {
         // The untangling only moves vertices: its undo needs M_st's points alone.
         std::optional<Remesh_state::Checkpoint> cp;
