@@ -113,6 +113,7 @@ struct Remeshing_statistics {
   std::size_t strict_intersecting_before = 0; ///< faces in new self-intersecting pairs before it
   std::size_t strict_flipped_after = 0;       ///< and after it (the verifier decides: see remeshing_verification.h)
   std::size_t strict_intersecting_after = 0;
+  std::size_t strict_flips = 0;               ///< edge flips the strict repair kept (the source's surface kept)
   std::size_t strict_splits = 0;              ///< vertices the strict repair added
   unsigned strict_rounds = 0;                 ///< its refinement rounds
   unsigned smoothing_rounds = 0, refinement_rounds = 0;
@@ -359,7 +360,7 @@ private:
     const internal::Strict_repair_result r = internal::strict_repair(s, 4 * stats_.layout_vertices);
     stats_.strict_flipped_before = r.flipped_before, stats_.strict_intersecting_before = r.intersecting_before;
     stats_.strict_flipped_after = r.flipped_after, stats_.strict_intersecting_after = r.intersecting_after;
-    stats_.strict_splits = r.splits, stats_.strict_rounds = unsigned(r.rounds);
+    stats_.strict_splits = r.splits, stats_.strict_rounds = unsigned(r.rounds), stats_.strict_flips = r.flips;
     stats_.seconds_strict_repair = sec(ts, clock::now());
     say("remesh: strict repair: " + std::to_string(r.flipped_before) + " flipped and " +
         std::to_string(r.intersecting_before) + " intersecting faces before, " + std::to_string(r.flipped_after) +
