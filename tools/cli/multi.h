@@ -139,7 +139,8 @@ inline int run_multi_remesh(const Options& o) {
     for (std::size_t m = 0; m < meshes.size(); ++m)
       if (m != S.source)
         std::cout << "  mesh " << m << ": Hausdorff " << format_number(checks[m].hausdorff_target) << "% (tolerance "
-                  << format_number(o.tolerance) << "%), " << checks[m].flipped_faces << " flipped faces"
+                  << format_number(o.tolerance) << "%), " << checks[m].flipped_faces << " flipped faces ("
+                  << checks[m].flipped_at_target_folds << " at the target's own folds)"
                   << ", " << checks[m].new_self_intersections << " new self-intersecting face pairs"
                   << (checks[m].valid ? "" : " (NOT valid)") << "\n";
     std::cout << "  " << format_number(S.seconds_total) << " s; wrote " << o.output << "/\n";
@@ -420,7 +421,8 @@ inline int run_transfer(const Options& o) {
   if (!o.quiet)
     std::cout << "transfer: " << S.output_faces << " faces carry the source's texture coordinates (largest deviation "
               << "from their source face's interpolation " << format_number(worst) << "); Hausdorff to the target "
-              << format_number(check.hausdorff_target) << "%, " << check.flipped_faces << " flipped faces; wrote "
+              << format_number(check.hausdorff_target) << "%, " << check.flipped_faces << " flipped faces ("
+              << check.flipped_at_target_folds << " at the target's own folds); wrote "
               << o.output << "/target_textured.obj\n";
   return 0;
 }
