@@ -94,11 +94,15 @@ double bbox_diagonal(const Mesh& m) {
   return std::sqrt(CGAL::square(b.xmax() - b.xmin()) + CGAL::square(b.ymax() - b.ymin()) + CGAL::square(b.zmax() - b.zmin()));
 }
 
-/// Edges of `m` whose two faces' normals make an angle above `degrees` (degenerate faces skipped).
-template <class Mesh>
-std::size_t count_creases(const Mesh& m, double degrees) {
+/// A crease: an edge whose two faces' normals make an angle above this (a dihedral angle below 30°: the faces
+/// are folded back onto each other).
+constexpr double crease_degrees = 150.0;
+
+/// Calls `visit(h)` for one halfedge h of every edge of `m` whose two faces' normals make an angle above
+/// `degrees` (a crease; border edges and degenerate faces skipped).
+template <class Mesh, class Visit>
+void for_each_crease(const Mesh& m, double degrees, Visit visit) {
   const double c = std::cos(degrees * CGAL_PI / 180);
-  std::size_t n = 0;
   auto normal = [&m](auto h) {
     return triangle_normal(get(CGAL::vertex_point, m, source(h, m)), get(CGAL::vertex_point, m, target(h, m)),
                            get(CGAL::vertex_point, m, target(next(h, m), m)));
@@ -108,8 +112,15 @@ std::size_t count_creases(const Mesh& m, double degrees) {
     if (is_border(h, m) || is_border(o, m)) continue;
     const auto a = normal(h), b = normal(o);
     const double la = std::sqrt(a.squared_length()), lb = std::sqrt(b.squared_length());
-    if (la > 0 && lb > 0 && a * b < c * la * lb) ++n;
+    if (la > 0 && lb > 0 && a * b < c * la * lb) visit(h);
   }
+}
+
+/// Edges of `m` whose two faces' normals make an angle above `degrees` (degenerate faces skipped).
+template <class Mesh>
+std::size_t count_creases(const Mesh& m, double degrees) {
+  std::size_t n = 0;
+  for_each_crease(m, degrees, [&n](auto) { ++n; });
   return n;
 }
 
@@ -130,23 +141,14 @@ CGAL::Bbox_3 face_bbox(const Mesh& m, typename boost::graph_traits<Mesh>::face_d
   return b;
 }
 
-/// Bounding boxes of the faces of m on its folds: the two faces of every edge whose faces' normals make an
-/// angle above 150° (a crease), and the faces of every self-intersecting pair `pairs` of m.
+/// Bounding boxes of the faces of m on its folds: the two faces of every crease (crease_degrees), and the faces of every self-intersecting pair `pairs` of m.
 template <class Mesh, class Pairs>
 std::vector<CGAL::Bbox_3> fold_face_boxes(const Mesh& m, const Pairs& pairs) {
-  const double c = std::cos(150.0 * CGAL_PI / 180);
-  auto normal = [&m](auto h) {
-    return triangle_normal(get(CGAL::vertex_point, m, source(h, m)), get(CGAL::vertex_point, m, target(h, m)),
-                           get(CGAL::vertex_point, m, target(next(h, m), m)));
-  };
   std::vector<CGAL::Bbox_3> out;
-  for (auto e : edges(m)) {
-    const auto h = halfedge(e, m), o = opposite(h, m);
-    if (is_border(h, m) || is_border(o, m)) continue;
-    const auto a = normal(h), b = normal(o);
-    const double la = std::sqrt(a.squared_length()), lb = std::sqrt(b.squared_length());
-    if (la > 0 && lb > 0 && a * b < c * la * lb) out.push_back(face_bbox(m, face(h, m))), out.push_back(face_bbox(m, face(o, m)));
-  }
+  for_each_crease(m, crease_degrees, [&](auto h) {
+    out.push_back(face_bbox(m, face(h, m)));
+    out.push_back(face_bbox(m, face(opposite(h, m), m)));
+  });
   for (const auto& p : pairs) out.push_back(face_bbox(m, p.first)), out.push_back(face_bbox(m, p.second));
   return out;
 }
@@ -234,8 +236,8 @@ Remeshing_verification verify_compatible_remeshing(const Mesh& src, const Mesh& 
     area += ln, weighted += ln * angle, above += angle > 30 ? ln : 0;
   }
   if (area > 0) r.normal_deviation_mean = weighted / area, r.normal_deviation_above_30 = 100 * above / area;
-  r.creases_output = internal::count_creases(out_target, 150.0);
-  r.creases_target = internal::count_creases(tgt, 150.0);
+  r.creases_output = internal::count_creases(out_target, internal::crease_degrees);
+  r.creases_target = internal::count_creases(tgt, internal::crease_degrees);
   // Self-intersections: the output's, less those near the target's own folds (a target that intersects itself,
   // or folds onto itself at a crease so that its two sides are closer than the tolerance, is approximated
   // within the tolerance by an output that may intersect itself there).

@@ -109,18 +109,9 @@ Refinement_result refine(Remesh_state& s, const Rule& rule) {
 /// source point (w's image against the point of the two faces at w's base location).
 inline bool restored_faces_follow_target(const Remesh_state& s, const Corner& cu, const Corner& cv, const Corner& cx,
                                          const Corner& cy, const Corner& cw, double lim) {
+  if (!s.edge_faces_follow_target(cu, cv, cx, cy, lim)) return false;
   const Base_mesh& B = *s.param.base;
   const double lim2 = lim * lim;
-  Base_location mid;
-  if (!B.interpolate({&cu.loc, &cv.loc, &cx.loc}, {0.5, 0.5, 0.0}, mid) ||
-      CGAL::squared_distance(CGAL::midpoint(cu.pos, cv.pos), s.corner_at(mid).pos) > lim2)
-    return false;
-  for (const Corner* c : {&cx, &cy}) {
-    Base_location ce;
-    if (!B.interpolate({&cu.loc, &cv.loc, &c->loc}, {1.0 / 3, 1.0 / 3, 1.0 / 3}, ce) ||
-        CGAL::squared_distance(CGAL::centroid(cu.pos, cv.pos, c->pos), s.corner_at(ce).pos) > lim2)
-      return false;
-  }
   std::array<const Base_location*, 5> ls{&cu.loc, &cv.loc, &cx.loc, &cy.loc, &cw.loc};
   std::array<Point_2, 5> q;
   int fc, fn;

@@ -420,13 +420,26 @@ public:
            B.triangle_orientation(param[v], param[x], param[y]) == CGAL::POSITIVE;
   }
 
-  /// Flips edge (u, v) of halfedge h into (x, y), x and y its opposite corners, where that keeps the source's
-  /// surface exactly: both faces lie in one input face (so the four vertices are coplanar on the source), the
-  /// edge is on no layout path, and both new faces are positively oriented in that input face's plane (exact
-  /// test on the vertices' barycentric coordinates there; the quadrilateral is strictly convex). The
-  /// parameterization must stay one-to-one, M_st gain no fold (acceptable()), and the new faces follow the
-  /// target (their edge's midpoint and centroids within ε/2 of F there). No vertex moves and none is
-  /// added: F is kept at every vertex. Returns whether it flipped.
+  /// Whether faces (a, b, c) and (b, a, d) of M_st lie within `lim` of the target: the midpoint of (a, b) and
+  /// both centroids, each against F of the same source point.
+  bool edge_faces_follow_target(const Corner& a, const Corner& b, const Corner& c, const Corner& d, double lim) const {
+    const Base_mesh& B = *param.base;
+    const double lim2 = lim * lim;
+    Base_location w;
+    if (!B.interpolate({&a.loc, &b.loc, &c.loc}, {0.5, 0.5, 0.0}, w) ||
+        CGAL::squared_distance(CGAL::midpoint(a.pos, b.pos), corner_at(w).pos) > lim2)
+      return false;
+    for (const Corner* k : {&c, &d})
+      if (!B.interpolate({&a.loc, &b.loc, &k->loc}, {1.0 / 3, 1.0 / 3, 1.0 / 3}, w) ||
+          CGAL::squared_distance(CGAL::centroid(a.pos, b.pos, k->pos), corner_at(w).pos) > lim2)
+        return false;
+    return true;
+  }
+
+  /// Flips edge (u, v) of halfedge h into (x, y) where flip_keeps_source(h), M_st gains no fold (acceptable())
+  /// and the new faces follow the target within ε/2 (edge_faces_follow_target()), so that the flip brings no
+  /// part of the output farther from the target. No vertex moves and none is added: F is kept at every vertex.
+  /// Returns whether it flipped.
   bool flip(WH h) {
     auto& m = mesh.m;
     if (!flip_keeps_source(h)) return false;
@@ -436,18 +449,7 @@ public:
     if (!acceptable(std::array<Face_plan, 2>{{{&cu, &cv, &cx}, {&cv, &cu, &cy}}},
                     std::array<Face_plan, 2>{{{&cu, &cy, &cx}, {&cv, &cx, &cy}}}))
       return false;
-    // The new faces follow the target: the new edge's midpoint and both centroids within ε/2 of F of the same
-    // source point, so that the flip brings no part of the output farther from the target.
-    const Base_mesh& B = *param.base;
-    const double lim2 = 0.25 * eps * eps;
-    Base_location w;
-    if (!B.interpolate({&cx.loc, &cy.loc, &cu.loc}, {0.5, 0.5, 0.0}, w) ||
-        CGAL::squared_distance(CGAL::midpoint(cx.pos, cy.pos), corner_at(w).pos) > lim2)
-      return false;
-    for (const Corner* c : {&cu, &cv})
-      if (!B.interpolate({&cx.loc, &cy.loc, &c->loc}, {1.0 / 3, 1.0 / 3, 1.0 / 3}, w) ||
-          CGAL::squared_distance(CGAL::centroid(cx.pos, cy.pos, c->pos), corner_at(w).pos) > lim2)
-        return false;
+    if (!edge_faces_follow_target(cx, cy, cu, cv, 0.5 * eps)) return false;
     touch(u, v);
     CGAL::Euler::flip_edge(h, m);
     return true;
