@@ -109,6 +109,7 @@ struct Remeshing_statistics {
   std::size_t standard_untangle_moves = 0;  ///< vertices of the target-shaped mesh that second pass moved
   double standard_untangle_max_move = 0;    ///< its farthest move, percent of the target's diagonal
   double untangle_max_move = 0;      ///< the farthest such move, percent of the target's bounding-box diagonal
+  std::size_t untangle_folds_not_tried = 0; ///< folds the untangling passes left untried at their work bound
   std::size_t strict_flipped_before = 0;      ///< faces flipped by the standard rule before the strict repair
   std::size_t strict_intersecting_before = 0; ///< faces in new self-intersecting pairs before it
   std::size_t strict_flipped_after = 0;       ///< and after it (the verifier decides: see remeshing_verification.h)
@@ -408,19 +409,23 @@ private:
       stats_.standard_flips_left = standard.count_flipped();
       stats_.standard_untangle_moves = u.moves;
       stats_.standard_untangle_max_move = u.max_move;
+      stats_.untangle_folds_not_tried += u.folds_not_tried;
       say("remesh: untangling by the standard flip rule: " + std::to_string(u.folds_removed) + " removed, " +
-          std::to_string(stats_.standard_flips_left) + " left");
+          std::to_string(stats_.standard_flips_left) + " left" +
+          (u.folds_not_tried ? " (" + std::to_string(u.folds_not_tried) + " not tried: the step's work bound)" : ""));
     }
     stats_.seconds_untangle = sec(tu, clock::now()) - stats_.seconds_fold_repair;
   }
   void record(const State& s, const internal::Untangle_result& u) {
+    stats_.untangle_folds_not_tried += u.folds_not_tried;
     stats_.untangled_folds = u.folds_removed;
     stats_.untangle_moves = u.moves;
     stats_.untangle_max_move = u.max_move;
     if (stats_.untangled_folds + s.n_flipped > 0)
       say("remesh: untangling: " + std::to_string(stats_.untangled_folds) + " folds removed, " +
           std::to_string(stats_.untangle_moves) + " vertices moved along the target (at most " +
-          fmt(stats_.untangle_max_move) + "%), " + std::to_string(s.n_flipped) + " flipped faces");
+          fmt(stats_.untangle_max_move) + "%), " + std::to_string(s.n_flipped) + " flipped faces" +
+          (u.folds_not_tried ? " (" + std::to_string(u.folds_not_tried) + " not tried: the step's work bound)" : ""));
   }
 
   /// The parameterization of the remeshed source must still be one-to-one.

@@ -403,7 +403,7 @@ inline Remeshing_verification write_remesh(const Options& o, const Map& cp, cons
     j.key("untangling").begin_object().member("folds_removed", S.untangled_folds).member("vertices_moved", S.untangle_moves);
     j.member("standard_rule_removed", S.standard_flips_untangled).member("standard_rule_left", S.standard_flips_left);
     j.member("standard_rule_vertices_moved", S.standard_untangle_moves).member("standard_rule_max_move_percent", S.standard_untangle_max_move);
-    j.member("max_move_percent", S.untangle_max_move).end_object();
+    j.member("max_move_percent", S.untangle_max_move).member("folds_not_tried", S.untangle_folds_not_tried).end_object();
     j.key("strict_repair").begin_object().member("flipped_before", S.strict_flipped_before);
     j.member("intersecting_before", S.strict_intersecting_before).member("flipped_after", S.strict_flipped_after);
     j.member("intersecting_after", S.strict_intersecting_after).member("edge_flips", S.strict_flips);

@@ -31,6 +31,7 @@ struct Untangle_result {
   std::size_t folds_removed = 0; ///< folded faces that the untangling removed
   std::size_t moves = 0;         ///< vertices of the target-shaped mesh it moved (off F, along the target)
   double max_move = 0;           ///< the farthest such move, percent of the target's bounding-box diagonal
+  std::size_t folds_not_tried = 0; ///< folded faces left untried when the run's work bound was reached
 };
 
 /// The untangling of M_st on the target, with the target's AABB tree built once for all its runs.
@@ -57,9 +58,11 @@ public:
   }
   /// The untangling of run() around face f of M_st, flipped or not (a pleat: faces folded over each other with
   /// normals that agree with the target's): a planar chart of a ring around f, else a flattened disk. Returns
-  /// whether an untangling was kept.
+  /// whether an untangling was kept. Within the work bound of one fold, and all calls on this untangler
+  /// within that of one run() together (work_per_fold, work_per_run).
   bool untangle_around(WF f) {
     std::vector<char> moved(s.mesh.m.number_of_vertices(), 0);
+    fold_work_left_ = work_per_fold; // the run's bound is shared by every call on this untangler
     int r = untangle_in_rings(f, moved);
     for (double size : {1.0, 1.5, 2.0})
       if (r <= 0 && !s.budget.expired()) r = untangle_on_surface(f, size, moved);
@@ -92,13 +95,19 @@ public:
     for (WF f : m.faces())
       if (flipped_on_target(f)) folds.push_back(f);
     std::size_t done = 0;
+    run_work_left_ = work_per_run;
     for (WF f : folds) {
       if (!flipped_on_target(f)) continue; // untangled with an earlier one
+      if (run_work_left_ == 0) {
+        ++result.folds_not_tried;
+        continue;
+      }
       if (s.budget.stop("the remeshing's untangling", [&] {
             return std::to_string(done) + " of " + std::to_string(folds.size()) + " folded faces";
           }))
         break; // best effort: every untangling so far is complete
       ++done;
+      fold_work_left_ = work_per_fold;
       int r = untangle_in_rings(f, moved);
       for (double size : {1.0, 1.5, 2.0})
         if (r <= 0 && !s.budget.expired()) r = untangle_on_surface(f, size, moved);
@@ -308,8 +317,12 @@ private:
       const bool good = e.determinant() > 0.2 * std::sqrt(3.0) / 4 * longest2 && !s.face_folded(f);
       tris.push_back({c, (good ? e : equilateral).inverse()});
     }
+    const std::size_t work = std::min(fold_work_left_, run_work_left_);
+    if (work == 0) return 0;
     Planar_untangler untangler(xy, is_free, std::move(tris));
-    const double det = untangler.run(0.3 * side, 51, 400, &s.budget);
+    const double det = untangler.run(0.3 * side, 51, 400, &s.budget, work);
+    fold_work_left_ -= std::min(fold_work_left_, untangler.evaluations());
+    run_work_left_ -= std::min(run_work_left_, untangler.evaluations());
     if (!(det > 0) && (!relayout || s.budget.expired())) return 0; // a run cut short by the time limit is not kept
     std::vector<std::pair<WV, Corner>> old;
     auto restore = [&] {
@@ -347,8 +360,19 @@ private:
     return {f, barycentric_in_triangle(t.point(t.source(h)), t.point(t.target(h)), t.point(t.target(t.next(h))), p)};
   }
 
+  /// The work bounds, in triangle energies evaluated by the planar untanglings (Planar_untangler::run(), about
+  /// 40 ns each on one core): per fold (its rings, then its surface charts with the rings inside them) and per
+  /// run() (or per untangler, for the calls of untangle_around()). On the bench the folds that are untangled
+  /// use up to 6e7 (shrec_381_382; lion_cat 5e5, horse0_horse7 5e6), and a fold that cannot be untangled up
+  /// to 7e7 (horse0_horse7); on feline_g2 and a pair of SHREC'07 animals, the first run alone went on for
+  /// over ten minutes (1e10 in 400 s). The bounds keep every fold the bench untangles and cap the rest: a
+  /// fold at about 6 s, a run at about 2 minutes.
+  static constexpr std::size_t work_per_fold = 150000000, work_per_run = 3000000000;
+
   Remesh_state& s;
   Rule rule_;
+  std::size_t fold_work_left_ = work_per_fold; ///< what the present fold may still use
+  std::size_t run_work_left_ = work_per_run;   ///< what the present run() may still use
   Target_tree tree;     ///< the target's faces
   double max_move_ = 0; ///< the farthest move of this run (percent of the target's diagonal)
 };

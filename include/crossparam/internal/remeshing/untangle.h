@@ -52,11 +52,15 @@ public:
   /// Runs the untangling; `max_step` bounds how far one step moves a coordinate (a fraction of the reference
   /// edge length keeps the line search in the range where the energy is meaningful). Returns the smallest
   /// det J at the end: positive if every triangle is positively oriented. At most `outer_rounds` values of ε:
-  /// where no positive embedding exists, the smallest det J stalls well before 51 rounds.
-  /// Stops early, between two rounds, once `budget` (if any) has run out.
-  double run(double max_step, int outer_rounds = 51, int inner_iterations = 400, const Time_budget* budget = nullptr) {
+  /// where no positive embedding exists, the smallest det J stalls well before 51 rounds. Stops early, between
+  /// two rounds, once `budget` (if any) has run out, and between two iterations once `max_evaluations`
+  /// triangle energies have been evaluated (a bound on the work, the same on every machine).
+  double run(double max_step, int outer_rounds = 51, int inner_iterations = 400, const Time_budget* budget = nullptr,
+             std::size_t max_evaluations = std::size_t(-1)) {
+    max_evaluations_ = max_evaluations;
     double eps = 1, previous = energy(eps, nullptr);
-    for (int round = 0; round < outer_rounds && !(budget && budget->expired()); ++round) {
+    for (int round = 0; round < outer_rounds && !(budget && budget->expired()) && evaluations_ < max_evaluations_;
+         ++round) {
       minimise(eps, inner_iterations, max_step);
       const double e = energy(eps, nullptr), d = min_det();
       if (d > 0 && round >= 2) break;
@@ -71,6 +75,8 @@ public:
   }
 
   Eigen::Vector2d point(std::size_t i) const { return x_.segment<2>(2 * i); }
+  /// The work done so far: triangle energies evaluated.
+  std::size_t evaluations() const { return evaluations_; }
 
   double min_det() const {
     double m = HUGE_VAL;
@@ -89,6 +95,7 @@ private:
 
   /// The energy at x, and its gradient (zero on fixed coordinates) if `g` is given.
   double energy(const Eigen::VectorXd& x, double eps, Eigen::VectorXd* g) const {
+    evaluations_ += tris_.size();
     double total = 0;
     if (g) g->setZero(x.size());
     for (const Untangle_triangle& t : tris_) {
@@ -119,7 +126,7 @@ private:
     std::deque<Eigen::VectorXd> S, Y;
     Eigen::VectorXd g, gn, xn;
     double e = energy(eps, &g);
-    for (int it = 0; it < iterations; ++it) {
+    for (int it = 0; it < iterations && evaluations_ < max_evaluations_; ++it) {
       Eigen::VectorXd q = g;
       std::vector<double> alpha(S.size());
       for (std::size_t k = S.size(); k-- > 0;) {
@@ -154,6 +161,8 @@ private:
     }
   }
 
+  mutable std::size_t evaluations_ = 0; ///< triangle energies evaluated so far
+  std::size_t max_evaluations_ = std::size_t(-1);
   Eigen::VectorXd x_;
   std::vector<char> free_;
   std::vector<Untangle_triangle> tris_;
