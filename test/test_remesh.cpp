@@ -206,7 +206,7 @@ TEST(Morph, CompatibilityAndInterpolation) {
 
 // The planar untangler behind the remesher's last step (internal/remeshing/untangle.h): a grid whose inner vertices
 // are thrown across each other is untangled with its outline held; a fan whose outline has an empty kernel
-// cannot be, and says so.
+// cannot be, and says so, also when its work bound stops it.
 TEST(Untangle, GridWithCrossedVerticesBecomesPositive) {
   const int n = 6; // (n+1)^2 points of the unit square's grid
   std::vector<Eigen::Vector2d> p;
@@ -248,6 +248,13 @@ TEST(Untangle, ReportsWhenNoEmbeddingExists) {
   for (int k = 1; k <= 8; ++k) tris.push_back({{0, k, k % 8 + 1}, ref});
   internal::Planar_untangler u(p, is_free, tris);
   EXPECT_LE(u.run(0.05), 0);
+  // Its work bound: it stops within one L-BFGS iteration (at most 81 energies of the 8 triangles, the line
+  // search's) of the bound, and says it failed.
+  internal::Planar_untangler bounded(p, is_free, tris);
+  EXPECT_LE(bounded.run(0.05, 51, 400, nullptr, 200), 0);
+  EXPECT_GE(bounded.evaluations(), 200u);
+  EXPECT_LE(bounded.evaluations(), 200u + 82 * 8);
+  EXPECT_GT(u.evaluations(), 3 * bounded.evaluations()); // the unbounded run did much more
 }
 
 // The disk chart behind the untangling on the surface (internal/remeshing/disk_chart.h). On a torus, a disk grown around
