@@ -117,6 +117,7 @@ struct Remeshing_statistics {
   std::size_t strict_flips = 0;               ///< edge flips the strict repair kept (the source's surface kept)
   std::size_t strict_splits = 0;              ///< vertices the strict repair added
   unsigned strict_rounds = 0;                 ///< its refinement rounds
+  bool strict_work_bound_reached = false;     ///< whether it stopped at its work bound (strict_repair.h)
   unsigned smoothing_rounds = 0, refinement_rounds = 0;
   double tolerance = 0;              ///< ε, percent
   double max_error_initial = 0, l2_error_initial = 0; ///< e(v) of M_st right after the projection
@@ -362,11 +363,12 @@ private:
     stats_.strict_flipped_before = r.flipped_before, stats_.strict_intersecting_before = r.intersecting_before;
     stats_.strict_flipped_after = r.flipped_after, stats_.strict_intersecting_after = r.intersecting_after;
     stats_.strict_splits = r.splits, stats_.strict_rounds = unsigned(r.rounds), stats_.strict_flips = r.flips;
+    stats_.strict_work_bound_reached = r.work_bound_reached;
     stats_.seconds_strict_repair = sec(ts, clock::now());
     say("remesh: strict repair: " + std::to_string(r.flipped_before) + " flipped and " +
         std::to_string(r.intersecting_before) + " intersecting faces before, " + std::to_string(r.flipped_after) +
         " and " + std::to_string(r.intersecting_after) + " after; " + std::to_string(r.flips) + " edge flips, " + std::to_string(r.splits) + " vertices added in " +
-        std::to_string(r.rounds) + " rounds");
+        std::to_string(r.rounds) + " rounds" + (r.work_bound_reached ? " (stopped at its work bound)" : ""));
   }
 
   /// Folds left (additions to the paper): untangled on the target, off F, which adds no vertex; where that

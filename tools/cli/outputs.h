@@ -408,7 +408,7 @@ inline Remeshing_verification write_remesh(const Options& o, const Map& cp, cons
     j.member("intersecting_before", S.strict_intersecting_before).member("flipped_after", S.strict_flipped_after);
     j.member("intersecting_after", S.strict_intersecting_after).member("edge_flips", S.strict_flips);
     j.member("vertices_added", S.strict_splits);
-    j.member("passes", S.strict_rounds).end_object();
+    j.member("passes", S.strict_rounds).member("work_bound_reached", S.strict_work_bound_reached).end_object();
     j.key("surface_gaps").begin_object().member("sampled_max_before_percent", S.gap_before).member("vertices_added", S.gap_vertices);
     j.member("rounds", S.gap_rounds).member("samples_left", S.gap_samples_left).end_object();
     j.member("tolerance_percent", S.tolerance);

@@ -38,7 +38,14 @@ struct Strict_repair_result {
   std::size_t splits = 0;                   ///< vertices it added
   std::size_t rounds = 0;                   ///< passes over the bad faces
   std::size_t flips = 0;                    ///< edge flips kept (Remesh_state::flip())
+  bool work_bound_reached = false;          ///< whether it stopped at strict_repair_work
 };
+
+/// The strict repair's work bound, in the work of Strict_checker::local_bad() (faces scanned plus faces tested
+/// for intersections; about 0.6 µs each on one core, with the repairs it judges): on the bench at most 1e8
+/// (shrec_383_385, 65 s; horse0_horse7 7e7, lion_cat 6e6), so three times that stops only repairs that would
+/// run for minutes more (feline_g2's ran for over 15 minutes).
+constexpr std::size_t strict_repair_work = 300000000;
 
 /// The faces of M_st that the verifier would reject, found with the same definitions.
 class Strict_checker {
@@ -86,6 +93,7 @@ public:
     std::vector<WF> candidates;
     for (WF f : m.faces())
       if (CGAL::do_overlap(box, face_box(f))) candidates.push_back(f);
+    work_ += m.number_of_faces() + candidates.size();
     std::vector<std::pair<WF, WF>> pairs;
     CGAL::Polygon_mesh_processing::self_intersections(candidates, m, std::back_inserter(pairs),
                                                       CGAL::parameters::vertex_point_map(positions()));
@@ -93,6 +101,9 @@ public:
       if ((in[p.first] || in[p.second]) && !near_target_pair(face_box(p.first) + face_box(p.second))) ++n;
     return n;
   }
+
+  /// The work of local_bad() so far: faces scanned, plus faces tested for intersections.
+  std::size_t work() const { return work_; }
 
 private:
   CGAL::Bbox_3 face_box(WF f) const {
@@ -106,6 +117,7 @@ private:
   Remesh_state& s;
   Target_untangler& flips;
   std::vector<CGAL::Bbox_3> target_folds; ///< the target's faces on creases or in self-intersecting pairs
+  mutable std::size_t work_ = 0;
 };
 
 /// The faces around the corners of f and their neighbours (f's two-ring of faces).
@@ -200,6 +212,10 @@ inline Strict_repair_result strict_repair(Remesh_state& s, std::size_t max_verti
     std::size_t kept = 0;
     for (WF f : todo) {
       if (m.number_of_vertices() >= max_vertices) break;
+      if (check.work() >= strict_repair_work) {
+        r.work_bound_reached = true;
+        break;
+      }
       if (s.budget.stop("the remeshing's strict repair", [&] {
             return "pass " + std::to_string(pass + 1) + " of at most " + std::to_string(max_passes);
           }))
