@@ -185,8 +185,8 @@ inline std::vector<WV> repair_face(Remesh_state& s, Target_untangler& flips, WF 
 /// kept: the untangling around it (Target_untangler::untangle_around()); repair_face() as M_st is, with its
 /// corners back at F, and with its two-ring back at F. Passes over the bad faces until a pass keeps nothing,
 /// at most `max_passes`, and not past `max_vertices` vertices; a face whose every repair failed is not tried
-/// again. No repair that is kept adds a bad face in its region, so the result has no more bad faces than M_st
-/// had.
+/// again. No repair that is kept adds a bad face in its region; faces outside the region are not counted, so
+/// the total can rise where repairs change them (it falls on the bench; on feline_g2 the flipped faces rose).
 inline Strict_repair_result strict_repair(Remesh_state& s, std::size_t max_vertices, unsigned max_passes = 8) {
   auto& m = s.mesh.m;
   Target_untangler standard(s, Target_untangler::Rule::standard);
