@@ -414,9 +414,13 @@ private:
       stats_.untangle_folds_not_tried += u.folds_not_tried;
       say("remesh: untangling by the standard flip rule: " + std::to_string(u.folds_removed) + " removed, " +
           std::to_string(stats_.standard_flips_left) + " left" +
-          (u.folds_not_tried ? " (" + std::to_string(u.folds_not_tried) + " not tried: the step's work bound)" : ""));
+          not_tried(u));
     }
     stats_.seconds_untangle = sec(tu, clock::now()) - stats_.seconds_fold_repair;
+  }
+  /// What the progress line says of the folds an untangling pass left at its work bound.
+  static std::string not_tried(const internal::Untangle_result& u) {
+    return u.folds_not_tried ? " (" + std::to_string(u.folds_not_tried) + " not tried: the step's work bound)" : "";
   }
   void record(const State& s, const internal::Untangle_result& u) {
     stats_.untangle_folds_not_tried += u.folds_not_tried;
@@ -427,7 +431,7 @@ private:
       say("remesh: untangling: " + std::to_string(stats_.untangled_folds) + " folds removed, " +
           std::to_string(stats_.untangle_moves) + " vertices moved along the target (at most " +
           fmt(stats_.untangle_max_move) + "%), " + std::to_string(s.n_flipped) + " flipped faces" +
-          (u.folds_not_tried ? " (" + std::to_string(u.folds_not_tried) + " not tried: the step's work bound)" : ""));
+          not_tried(u));
   }
 
   /// The parameterization of the remeshed source must still be one-to-one.

@@ -61,8 +61,9 @@ public:
   /// whether an untangling was kept. Within the work bound of one fold, and all calls on this untangler
   /// within that of one run() together (work_per_fold, work_per_run).
   bool untangle_around(WF f) {
+    if (run_work_left_ == 0) return false; // the bound is shared by every call on this untangler
     std::vector<char> moved(s.mesh.m.number_of_vertices(), 0);
-    fold_work_left_ = work_per_fold; // the run's bound is shared by every call on this untangler
+    fold_work_left_ = work_per_fold;
     int r = untangle_in_rings(f, moved);
     for (double size : {1.0, 1.5, 2.0})
       if (r <= 0 && !s.budget.expired()) r = untangle_on_surface(f, size, moved);
@@ -141,7 +142,7 @@ private:
   /// untangle_ring() for k = 1 ... 8 until a ring is kept (1) or too curved (-1); 0 if none is kept.
   int untangle_in_rings(WF f, std::vector<char>& moved) {
     int r = 0;
-    for (int k = 1; k <= 8 && r == 0 && !s.budget.expired(); ++k) r = untangle_ring(f, k, moved);
+    for (int k = 1; k <= 8 && r == 0 && !s.budget.expired() && work_left() > 0; ++k) r = untangle_ring(f, k, moved);
     return r;
   }
 
@@ -207,6 +208,7 @@ private:
   /// untangle_ring(). Kept only if then no face around a vertex it moved is flipped; otherwise everything is
   /// restored. 1 if kept, 0 if not.
   int untangle_on_surface(WF f0, double size, std::vector<char>& moved) {
+    if (work_left() == 0) return 0;
     const auto& m = s.mesh.m;
     const WH h0 = s.longest_edge(f0);
     const double radius = size * std::sqrt(CGAL::squared_distance(s.pos[m.source(h0)], s.pos[m.target(h0)]));
@@ -274,6 +276,7 @@ private:
   template <class ToChart, class FromChart>
   int untangle_in_chart(const std::set<WF>& region, const ToChart& to_chart,
                         const FromChart& from_chart, bool relayout, std::vector<char>& moved) {
+    if (work_left() == 0) return 0;
     const auto& m = s.mesh.m;
     std::map<WV, int> id;
     std::vector<WV> verts;
@@ -317,12 +320,9 @@ private:
       const bool good = e.determinant() > 0.2 * std::sqrt(3.0) / 4 * longest2 && !s.face_folded(f);
       tris.push_back({c, (good ? e : equilateral).inverse()});
     }
-    const std::size_t work = std::min(fold_work_left_, run_work_left_);
-    if (work == 0) return 0;
     Planar_untangler untangler(xy, is_free, std::move(tris));
-    const double det = untangler.run(0.3 * side, 51, 400, &s.budget, work);
-    fold_work_left_ -= std::min(fold_work_left_, untangler.evaluations());
-    run_work_left_ -= std::min(run_work_left_, untangler.evaluations());
+    const double det = untangler.run(0.3 * side, 51, 400, &s.budget, work_left());
+    spend(untangler.evaluations());
     if (!(det > 0) && (!relayout || s.budget.expired())) return 0; // a run cut short by the time limit is not kept
     std::vector<std::pair<WV, Corner>> old;
     auto restore = [&] {
@@ -349,6 +349,12 @@ private:
       max_move_ = std::max(max_move_, 100 * std::sqrt(CGAL::squared_distance(o.second.pos, s.pos[o.first])));
     }
     return 1;
+  }
+  /// The work the present fold may still use (within its run's).
+  std::size_t work_left() const { return std::min(fold_work_left_, run_work_left_); }
+  void spend(std::size_t work) {
+    fold_work_left_ -= std::min(fold_work_left_, work);
+    run_work_left_ -= std::min(run_work_left_, work);
   }
   static Eigen::Matrix2d edge_matrix_of(const std::vector<Eigen::Vector2d>& xy, const std::array<int, 3>& c) {
     return edge_matrix(xy[c[0]], xy[c[1]], xy[c[2]]);
