@@ -9,6 +9,7 @@
 #define CROSSPARAM_INTERNAL_REMESHING_GAP_REFINEMENT_H
 
 #include <crossparam/internal/barycentric.h>
+#include <crossparam/internal/remeshing/fold_repair.h>
 #include <crossparam/internal/remeshing/remesh_state.h>
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
@@ -197,6 +198,27 @@ inline Gap_snap_result snap_surface_gaps(Remesh_state& s, unsigned max_rounds, s
       }
       return true;
     };
+    // Where neither placement fits, the split at F is made as a transaction with the fold repair
+    // (with_repair(): a split allowed one more fold, then refined around in the target's metric, kept only if
+    // M_st ends with no more folds), and undone as well if any face around a vertex it made is flipped by
+    // the verifier's rule. The next round samples the faces it made.
+    auto repaired = [&](std::vector<char>& changed, auto step) {
+      const Remesh_state::Checkpoint cp = s.checkpoint();
+      if (!with_repair(s, step)) return;
+      for (std::size_t k = cp.vertices; k < m.number_of_vertices(); ++k)
+        for (WF g : CGAL::faces_around_target(m.halfedge(WV(WV::size_type(k))), m)) {
+          const WH gh = m.halfedge(g);
+          const Point_3 &a = s.pos[m.source(gh)], &b = s.pos[m.target(gh)], &c = s.pos[m.target(m.next(gh))];
+          const auto hit = target_tree.closest_point_and_primitive(CGAL::centroid(a, b, c));
+          if (triangle_normal(a, b, c) * s.target_normal(hit.second) < 0) {
+            s.rollback(cp);
+            return;
+          }
+        }
+      for (std::size_t k = cp.vertices; k < m.number_of_vertices(); ++k)
+        for (WF g : CGAL::faces_around_target(m.halfedge(WV(WV::size_type(k))), m))
+          if (std::size_t(g) < nf) changed[g] = 1;
+    };
     for (std::size_t i : order) {
       if (changed[i] || m.number_of_vertices() >= vertex_cap) continue;
       const WF f(static_cast<WF::size_type>(i));
@@ -224,7 +246,10 @@ inline Gap_snap_result snap_surface_gaps(Remesh_state& s, unsigned max_rounds, s
           return s.acceptable(std::array<Face_plan, 2>{{{&cu, &cv, &cx}, {&cv, &cu, &cy}}}, after) &&
                  closes(after, std::sqrt(g.d2));
         };
-        if (!fits(cw) && !fits(cw = s.corner_at(cw.loc))) continue;
+        if (!fits(cw) && !fits(cw = s.corner_at(cw.loc))) {
+          repaired(changed, [&] { return s.split_near_middle(u, v, 7); });
+          continue;
+        }
         for (WH e : {h, m.opposite(h)})
           if (std::size_t(m.face(e)) < nf) changed[m.face(e)] = 1;
         s.commit(s.mesh.split_edge(u, v, t), cw);
@@ -235,7 +260,10 @@ inline Gap_snap_result snap_surface_gaps(Remesh_state& s, unsigned max_rounds, s
           const std::array<Face_plan, 3> after{{{&c0, &c1, &c}, {&c1, &c2, &c}, {&c2, &c0, &c}}};
           return s.acceptable(std::array<Face_plan, 1>{{{&c0, &c1, &c2}}}, after) && closes(after, std::sqrt(g.d2));
         };
-        if (!fits(cw) && !fits(cw = s.corner_at(cw.loc))) continue;
+        if (!fits(cw) && !fits(cw = s.corner_at(cw.loc))) {
+          repaired(changed, [&] { return s.insert(f, g.b); });
+          continue;
+        }
         changed[i] = 1;
         s.commit(s.mesh.split_face(f, g.b), cw);
       }
