@@ -83,7 +83,9 @@ struct Gap_snap_result {
 /// target, off F by at most the gap it closes. A vertex is
 /// added only where the new faces are positively oriented over the base mesh (exact test), fold M_st no more
 /// than before, lie closer to the target than the gap at their centroids and edge midpoints, and are none of
-/// them flipped by the verifier's (standard) rule; one per face and round, the farthest first. At most `max_rounds` rounds, and not past
+/// them flipped by the verifier's (standard) rule; one per face and round, the farthest first. Where neither
+/// placement fits, the split at F is made with the fold repair (with_repair()), kept only if M_st ends with no
+/// more folds and no face around a new vertex is flipped by the verifier's rule. At most `max_rounds` rounds, and not past
 /// `vertex_cap` vertices. M_st's figures of measure() are not brought up to date (no measure() may follow).
 inline Gap_snap_result snap_surface_gaps(Remesh_state& s, unsigned max_rounds, std::size_t vertex_cap) {
   using K = Kernel;

@@ -59,14 +59,15 @@ public:
   /// The untangling of run() around face f of M_st, flipped or not (a pleat: faces folded over each other with
   /// normals that agree with the target's): a planar chart of a ring around f, else a flattened disk. Returns
   /// whether an untangling was kept. Within the work bound of one fold, and all calls on this untangler
-  /// within that of one run() together (work_per_fold, work_per_run).
-  bool untangle_around(WF f) {
+  /// within that of one run() together (work_per_fold, work_per_run). With `rings_only`, the planar charts
+  /// of the rings alone.
+  bool untangle_around(WF f, bool rings_only = false) {
     if (run_work_left_ == 0) return false; // the bound is shared by every call on this untangler
     std::vector<char> moved(s.mesh.m.number_of_vertices(), 0);
     fold_work_left_ = work_per_fold;
     int r = untangle_in_rings(f, moved);
     for (double size : {1.0, 1.5, 2.0})
-      if (r <= 0 && !s.budget.expired()) r = untangle_on_surface(f, size, moved);
+      if (r <= 0 && !rings_only && !s.budget.expired()) r = untangle_on_surface(f, size, moved);
     return r > 0;
   }
   /// The point of the target nearest p, and its face.
