@@ -435,7 +435,7 @@ inline Remeshing_verification write_remesh(const Options& o, const Map& cp, cons
     j.member("smoothing", C.seconds_smoothing).member("map_total", C.seconds_total);
     j.member("adaptive_smoothing", S.seconds_smoothing).member("refinement", S.seconds_refinement);
     j.member("pseudo_flips", S.seconds_flips).member("fold_repair", S.seconds_fold_repair).member("untangle", S.seconds_untangle);
-    j.member("surface_gaps", S.seconds_gaps).member("certificate", S.seconds_certificate).member("remesh_total", S.seconds_total);
+    j.member("surface_gaps", S.seconds_gaps).member("strict_repair", S.seconds_strict_repair).member("certificate", S.seconds_certificate).member("remesh_total", S.seconds_total);
     j.end_object();
   });
   print_remesh_summary(o, S, check, added, C.seconds_total + S.seconds_total, verify_s);
