@@ -406,8 +406,7 @@ TEST(Genus, RandomizedMaps) {
 }
 
 // The map on genus 1 and 2: certified one-to-one both ways, features exact. Then, on genus 1, the compatible
-// remeshing: it completes with two compatible meshes; its independent verification at the default tolerance is
-// printed, not required (the remesher's error estimate does not bound the Hausdorff distance of these tubes).
+// remeshing: two compatible meshes, valid by the independent verifier's strict checks at the default tolerance.
 TEST(Genus, MapAndRemeshing) {
   for (int genus : {1, 2}) {
     SCOPED_TRACE("genus " + std::to_string(genus));
@@ -431,6 +430,8 @@ TEST(Genus, MapAndRemeshing) {
         if (T_in.orig_tri[l.face][i] == f[k].target) at = l.b[i];
       EXPECT_EQ(at, 1.0) << "feature " << k;
     }
+    // The remeshing of genus 1 only: on the chains of genus 2 and 3 (chain_mesh(g, 0) to chain_mesh(g, 2)) it
+    // takes minutes and is not valid (measured: Hausdorff 3.07 % and 2.91 %, 267 and 14 flipped faces).
     if (genus != 1) continue;
     constexpr double tolerance = 0.5; // the default tolerance, percent of the target's diagonal
     std::unique_ptr<Remesher> r;
@@ -440,7 +441,8 @@ TEST(Genus, MapAndRemeshing) {
     r->copy_to(Mesh_side::target, ot);
     const Remeshing_verification v = verify_compatible_remeshing(a.mesh, b.mesh, os, ot, tolerance);
     EXPECT_TRUE(v.compatible);
-    std::cout << "[ genus remesh ] " << (v.valid ? "valid" : "not valid: " + v.message) << "\n";
+    EXPECT_TRUE(v.valid) << v.message; // measured: valid, Hausdorff 0.48 %
+    std::cout << "[ genus remesh ] genus " << genus << ": " << (v.valid ? "valid" : "not valid: " + v.message) << " (Hausdorff " << v.hausdorff_target << "%, " << ot.number_of_vertices() << " vertices)\n";
   }
 }
 
