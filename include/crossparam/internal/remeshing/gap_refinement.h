@@ -207,19 +207,20 @@ inline Gap_snap_result snap_surface_gaps(Remesh_state& s, unsigned max_rounds, s
     auto repaired = [&](std::vector<char>& changed, auto step) {
       const Remesh_state::Checkpoint cp = s.checkpoint();
       if (!with_repair(s, step)) return;
+      std::vector<WF> around; // every face the transaction changed is around a vertex it made
       for (std::size_t k = cp.vertices; k < m.number_of_vertices(); ++k)
-        for (WF g : CGAL::faces_around_target(m.halfedge(WV(WV::size_type(k))), m)) {
-          const WH gh = m.halfedge(g);
-          const Point_3 &a = s.pos[m.source(gh)], &b = s.pos[m.target(gh)], &c = s.pos[m.target(m.next(gh))];
-          const auto hit = target_tree.closest_point_and_primitive(CGAL::centroid(a, b, c));
-          if (triangle_normal(a, b, c) * s.target_normal(hit.second) < 0) {
-            s.rollback(cp);
-            return;
-          }
+        for (WF g : CGAL::faces_around_target(m.halfedge(WV(WV::size_type(k))), m)) around.push_back(g);
+      for (WF g : around) {
+        const WH gh = m.halfedge(g);
+        const Point_3 &a = s.pos[m.source(gh)], &b = s.pos[m.target(gh)], &c = s.pos[m.target(m.next(gh))];
+        const auto hit = target_tree.closest_point_and_primitive(CGAL::centroid(a, b, c));
+        if (triangle_normal(a, b, c) * s.target_normal(hit.second) < 0) {
+          s.rollback(cp);
+          return;
         }
-      for (std::size_t k = cp.vertices; k < m.number_of_vertices(); ++k)
-        for (WF g : CGAL::faces_around_target(m.halfedge(WV(WV::size_type(k))), m))
-          if (std::size_t(g) < nf) changed[g] = 1;
+      }
+      for (WF g : around)
+        if (std::size_t(g) < nf) changed[g] = 1;
     };
     for (std::size_t i : order) {
       if (changed[i] || m.number_of_vertices() >= vertex_cap) continue;

@@ -241,6 +241,8 @@ inline Strict_repair_result strict_repair(Remesh_state& s, std::size_t max_verti
         ++kept, ++r.flips;
         continue;
       }
+      // to_f: -1 the untangling around f; 0, 1, 2 repair_face() with nothing, f's corners, or its two-ring put
+      // back at F; 3 one split, then the untangling around what it leaves flipped.
       for (int to_f : {-1, 0, 1, 2, 3}) {
         // The last repair is for flipped faces only: on faces that only intersect others it costs time
         // (shrec_383_385's remeshing took twice as long) and removed nothing more.
