@@ -459,10 +459,11 @@ public:
   /// A protrusion without a feature inside one patch (a limb, a tail, an ear) is squeezed exponentially by
   /// the parameterization: its vertices' stretch is 10^4 to 10^8 times the median. Such a cluster (connected
   /// vertices above 100 times the median, at least `min_size` of them, peaking above `min_squeeze` times the
-  /// median) has its tip where the stretch peaks. The tip's partner on the other mesh is the vertex with the
-  /// nearest geodesic-distance descriptor (distances to the features); if that lies in a squeezed cluster of
-  /// the other mesh, the two tips are paired. Vertices are input vertices (the nearest one to a split vertex);
-  /// no vertex already a feature is used again.
+  /// median) is paired through its extremity (see extremity_tips) when that extremity and one of the other
+  /// mesh are each other's nearest by geodesic-distance descriptor (distances to the features). Otherwise its
+  /// tip, where the stretch peaks, is paired with the vertex of the other mesh with the nearest descriptor, or
+  /// with the other mesh's tip if that vertex lies in a squeezed cluster there. Vertices are input vertices
+  /// (the nearest one to a split vertex); no vertex already a feature is used again.
   Feature_correspondence protrusion_tips(double min_squeeze = 1e4, std::size_t min_size = 20) const {
     using internal::WV;
     struct Cluster {
@@ -528,19 +529,54 @@ public:
       used[1].insert(b);
       out.push_back({a, b});
     };
+    // A cluster is paired through the extremities first: the extremity inside it (the most persistent) with
+    // the extremity of the other mesh that is its mutual nearest by descriptor, a symmetric test, so that
+    // neither mesh's choice is imposed on the other (a squeezed leg of one animal is otherwise paired with
+    // whichever vertex of the other has the nearest descriptor, at times the tip of the tail). Extremities are
+    // those of extremity_tips at the default persistence.
+    const std::array<std::vector<std::pair<WV, double>>, 2> ext{extremities(0, default_extremity_persistence),
+                                                                extremities(1, default_extremity_persistence)};
+    auto nearest_extremity = [&](int k, std::size_t i) { return nearest_by_descriptor(ext, k, i); };
+    // The pair (a on mesh k, b on the other) through the extremities of cluster c of mesh k, if there is one.
+    auto through_extremities = [&](int k, int c, WV& a, WV& b) {
+      std::size_t i = ext[k].size();
+      for (std::size_t x = 0; x < ext[k].size(); ++x)
+        if (cluster_of[k][ext[k][x].first] == c && (i == ext[k].size() || ext[k][x].second > ext[k][i].second)) i = x;
+      if (i == ext[k].size()) return false;
+      const std::size_t j = nearest_extremity(k, i);
+      if (j == ext[1 - k].size() || nearest_extremity(1 - k, j) != i) return false;
+      a = ext[k][i].first;
+      b = ext[1 - k][j].first;
+      return true;
+    };
+    // Otherwise the tip's partner is the vertex of the other mesh with the nearest descriptor, or that mesh's
+    // tip if the partner lies in a squeezed cluster of its own.
     std::vector<bool> paired(clusters[1].size(), false);
     for (std::size_t c = 0; c < clusters[0].size(); ++c) {
       if (!strong(0, int(c))) continue;
-      WV t = partner(0, clusters[0][c].tip);
-      const int ct = cluster_of[1][t];
-      if (strong(1, ct)) {
-        t = clusters[1][ct].tip;
-        paired[ct] = true;
+      WV s, t;
+      if (through_extremities(0, int(c), s, t)) {
+        if (cluster_of[1][t] >= 0) paired[std::size_t(cluster_of[1][t])] = true;
+      } else {
+        s = clusters[0][c].tip;
+        t = partner(0, s);
+        const int ct = cluster_of[1][t];
+        if (strong(1, ct)) {
+          t = clusters[1][ct].tip;
+          paired[std::size_t(ct)] = true;
+        }
       }
-      add(clusters[0][c].tip, t);
+      add(s, t);
     }
-    for (std::size_t c = 0; c < clusters[1].size(); ++c)
-      if (strong(1, int(c)) && !paired[c]) add(partner(1, clusters[1][c].tip), clusters[1][c].tip);
+    for (std::size_t c = 0; c < clusters[1].size(); ++c) {
+      if (!strong(1, int(c)) || paired[c]) continue;
+      WV s, t;
+      if (!through_extremities(1, int(c), t, s)) {
+        t = clusters[1][c].tip;
+        s = partner(1, t);
+      }
+      add(s, t);
+    }
     return out;
   }
 
@@ -557,42 +593,7 @@ public:
     using internal::WV;
     // Per mesh, the extremities: working vertices (the layout's split vertices included, so that the paths do
     // not cut the vertex graph) with their persistence.
-    std::array<std::vector<std::pair<WV, double>>, 2> ext;
-    for (int k = 0; k < 2; ++k) {
-      const internal::Layout_mesh& L = B_.side[k];
-      const std::size_t n = L.m.number_of_vertices();
-      std::vector<double> d(n, HUGE_VAL);
-      for (std::size_t i = 0; i < n; ++i)
-        for (float x : L.desc[i]) d[i] = std::min(d[i], double(x));
-      std::vector<std::size_t> order(n);
-      std::iota(order.begin(), order.end(), std::size_t(0));
-      std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return d[a] > d[b] || (d[a] == d[b] && a < b); });
-      // 0-dimensional persistence of the superlevel sets of d: vertices are added from the highest down; a
-      // vertex with no neighbour added yet is a maximum and starts a component; where two components meet (at
-      // a saddle), the one with the lower maximum dies, its persistence being its height above the saddle.
-      std::vector<std::size_t> parent(n, n), top(n, n);
-      auto find = [&](std::size_t x) {
-        while (parent[x] != x) x = parent[x] = parent[parent[x]];
-        return x;
-      };
-      std::vector<double> persistence(n, -1);
-      for (std::size_t v : order) {
-        parent[v] = v;
-        top[v] = v;
-        for (WV w : CGAL::vertices_around_target(WV(WV::size_type(v)), L.m)) {
-          const std::size_t u = std::size_t(w);
-          if (parent[u] == n) continue; // not in the superlevel set yet
-          std::size_t a = find(u), b = find(v);
-          if (a == b) continue;
-          if (d[top[a]] < d[top[b]] || (d[top[a]] == d[top[b]] && top[a] > top[b])) std::swap(a, b);
-          if (top[b] != v) persistence[top[b]] = d[top[b]] - d[v];
-          parent[b] = a;
-        }
-      }
-      if (n > 0) persistence[top[find(order.front())]] = HUGE_VAL;
-      for (std::size_t i = 0; i < n; ++i)
-        if (persistence[i] >= min_persistence) ext[k].push_back({WV(WV::size_type(i)), persistence[i]});
-    }
+    const std::array<std::vector<std::pair<WV, double>>, 2> ext{extremities(0, min_persistence), extremities(1, min_persistence)};
     // Vertices already features (given or in `taken`) are not used again.
     std::array<std::set<std::size_t>, 2> used;
     for (const Feature_correspondence* fc : {&features_, &taken})
@@ -600,18 +601,7 @@ public:
         used[0].insert(p.source);
         used[1].insert(p.target);
       }
-    auto nearest = [&](int k, std::size_t i) {
-      std::size_t best = ext[1 - k].size();
-      double bd = HUGE_VAL;
-      for (std::size_t j = 0; j < ext[1 - k].size(); ++j) {
-        const double dd = descriptor_distance(B_.side[k].desc[ext[k][i].first], B_.side[1 - k].desc[ext[1 - k][j].first]);
-        if (dd < bd) {
-          bd = dd;
-          best = j;
-        }
-      }
-      return best;
-    };
+    auto nearest = [&](int k, std::size_t i) { return nearest_by_descriptor(ext, k, i); };
     const internal::Layout_mesh& Lt = B_.side[1];
     const double unit_t = std::sqrt(Lt.area());
     Feature_correspondence out;
@@ -638,6 +628,65 @@ public:
 
 private:
   friend struct internal::Cross_parameterization_access;
+
+  /// The index of the vertex of list[1-k] whose descriptor is nearest to that of list[k][i] (list[1-k].size()
+  /// if that list is empty).
+  template <class List>
+  std::size_t nearest_by_descriptor(const std::array<List, 2>& list, int k, std::size_t i) const {
+    std::size_t best = list[1 - k].size();
+    double bd = HUGE_VAL;
+    for (std::size_t j = 0; j < list[1 - k].size(); ++j) {
+      const double dd =
+          descriptor_distance(B_.side[k].desc[list[k][i].first], B_.side[1 - k].desc[list[1 - k][j].first]);
+      if (dd < bd) {
+        bd = dd;
+        best = j;
+      }
+    }
+    return best;
+  }
+
+  /// The extremities of mesh k: its working vertices where d(v), the distance to the nearest feature (the
+  /// minimum of the descriptor), has a local maximum of persistence at least `min_persistence`, with that
+  /// persistence (the global maximum's is infinite).
+  std::vector<std::pair<internal::WV, double>> extremities(int k, double min_persistence) const {
+    using internal::WV;
+    std::vector<std::pair<WV, double>> out;
+    const internal::Layout_mesh& L = B_.side[k];
+    const std::size_t n = L.m.number_of_vertices();
+    std::vector<double> d(n, HUGE_VAL);
+    for (std::size_t i = 0; i < n; ++i)
+      for (float x : L.desc[i]) d[i] = std::min(d[i], double(x));
+    std::vector<std::size_t> order(n);
+    std::iota(order.begin(), order.end(), std::size_t(0));
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return d[a] > d[b] || (d[a] == d[b] && a < b); });
+    // 0-dimensional persistence of the superlevel sets of d: vertices are added from the highest down; a
+    // vertex with no neighbour added yet is a maximum and starts a component; where two components meet (at
+    // a saddle), the one with the lower maximum dies, its persistence being its height above the saddle.
+    std::vector<std::size_t> parent(n, n), top(n, n);
+    auto find = [&](std::size_t x) {
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    std::vector<double> persistence(n, -1);
+    for (std::size_t v : order) {
+      parent[v] = v;
+      top[v] = v;
+      for (WV w : CGAL::vertices_around_target(WV(WV::size_type(v)), L.m)) {
+        const std::size_t u = std::size_t(w);
+        if (parent[u] == n) continue; // not in the superlevel set yet
+        std::size_t a = find(u), b = find(v);
+        if (a == b) continue;
+        if (d[top[a]] < d[top[b]] || (d[top[a]] == d[top[b]] && top[a] > top[b])) std::swap(a, b);
+        if (top[b] != v) persistence[top[b]] = d[top[b]] - d[v];
+        parent[b] = a;
+      }
+    }
+    if (n > 0) persistence[top[find(order.front())]] = HUGE_VAL;
+    for (std::size_t i = 0; i < n; ++i)
+      if (persistence[i] >= min_persistence) out.push_back({WV(WV::size_type(i)), persistence[i]});
+    return out;
+  }
 
   /// The corners of face f of L's mesh in halfedge order, the last two swapped if the input faces point
   /// inward (L.reversed): the corner order of the user's face.
