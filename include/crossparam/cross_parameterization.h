@@ -536,15 +536,14 @@ public:
     // those of extremity_tips at the default persistence.
     const std::array<std::vector<std::pair<WV, double>>, 2> ext{extremities(0, default_extremity_persistence),
                                                                 extremities(1, default_extremity_persistence)};
-    auto nearest_extremity = [&](int k, std::size_t i) { return nearest_by_descriptor(ext, k, i); };
     // The pair (a on mesh k, b on the other) through the extremities of cluster c of mesh k, if there is one.
     auto through_extremities = [&](int k, int c, WV& a, WV& b) {
       std::size_t i = ext[k].size();
       for (std::size_t x = 0; x < ext[k].size(); ++x)
         if (cluster_of[k][ext[k][x].first] == c && (i == ext[k].size() || ext[k][x].second > ext[k][i].second)) i = x;
       if (i == ext[k].size()) return false;
-      const std::size_t j = nearest_extremity(k, i);
-      if (j == ext[1 - k].size() || nearest_extremity(1 - k, j) != i) return false;
+      const std::size_t j = mutual_nearest_by_descriptor(ext, k, i);
+      if (j == ext[1 - k].size()) return false;
       a = ext[k][i].first;
       b = ext[1 - k][j].first;
       return true;
@@ -601,13 +600,12 @@ public:
         used[0].insert(p.source);
         used[1].insert(p.target);
       }
-    auto nearest = [&](int k, std::size_t i) { return nearest_by_descriptor(ext, k, i); };
     const internal::Layout_mesh& Lt = B_.side[1];
     const double unit_t = std::sqrt(Lt.area());
     Feature_correspondence out;
     for (std::size_t i = 0; i < ext[0].size(); ++i) {
-      const std::size_t j = nearest(0, i);
-      if (j == ext[1].size() || nearest(1, j) != i) continue; // not mutual
+      const std::size_t j = mutual_nearest_by_descriptor(ext, 0, i);
+      if (j == ext[1].size()) continue;
       const WV vs = ext[0][i].first, vt = ext[1][j].first;
       // How far F sends the source extremity from its partner, over sqrt(target area).
       const double e = std::sqrt(CGAL::squared_distance(internal::point_at(Lt.m, locator_[1].locate(P_[0][vs])),
@@ -644,6 +642,14 @@ private:
       }
     }
     return best;
+  }
+
+  /// The index j of the vertex of list[1-k] such that list[k][i] and list[1-k][j] are each other's nearest by
+  /// descriptor (nearest_by_descriptor both ways), or list[1-k].size() if there is none.
+  template <class List>
+  std::size_t mutual_nearest_by_descriptor(const std::array<List, 2>& list, int k, std::size_t i) const {
+    const std::size_t j = nearest_by_descriptor(list, k, i);
+    return j < list[1 - k].size() && nearest_by_descriptor(list, 1 - k, j) == i ? j : list[1 - k].size();
   }
 
   /// The extremities of mesh k: its working vertices where d(v), the distance to the nearest feature (the
