@@ -14,8 +14,11 @@
 //   --png        with --ply, render the same meshes to PNG with POV-Ray (tools/cli/render.h)
 //   --view X,Y,Z --up X,Y,Z   the camera of --png (direction from the object to the camera, the up vector)
 //   --threads N  threads of the map (default 1: the figures do not depend on it, the times do)
-//   --extremity-features         maps with extremity features (parameters::extremity_features)
+//   --extremity-features MODE    select (the default: the pairs kept when they lower the map's worst
+//                                descriptor mismatch), all (every pair found kept) or off
 //   --extremity-persistence X    their persistence threshold (default 0.05, in sqrt(area) units)
+// The table's "descriptor mismatch" is the map's mean disagreement with the geodesic distances to the case's
+// features (Cross_parameterization::descriptor_mismatch), a figure that needs no truth.
 #include "../test/wide_cases.h"
 
 #include "../tools/cli/render.h"
@@ -133,7 +136,14 @@ void detail(const wide_bench::Case& c, const wide_bench::Outcome& o) {
     }
     return;
   }
-  // Dense: per feature cell of the source, the mean and max error and the share of the total error.
+  // Dense: the features the map added, each with the distance of its target end from the truth of its source
+  // end (a wrong pair joins points that do not correspond).
+  for (std::size_t k = c.features.size(); k < o.map_features.size(); ++k) {
+    const Point_3 t = wide_bench::point(c.target, o.map_features[k].target);
+    std::printf("  added feature %zu: source %zu, target %zu, %.4f from the truth\n", k, o.map_features[k].source,
+                o.map_features[k].target, std::sqrt(CGAL::squared_distance(t, c.dense.at(o.map_features[k].source))) / norm);
+  }
+  // Per feature cell of the source, the mean and max error and the share of the total error.
   const std::vector<int> cell = feature_cells(c.source, c.features);
   struct Acc {
     double sum = 0, max = 0;
@@ -205,7 +215,7 @@ int main(int argc, char** argv) {
   bool show_detail = false, png = false;
   fs::path ply_dir;
   unsigned threads = 1;
-  bool extremities = false;
+  bool extremities = true, select = true;
   double persistence = Cross_parameterization<Surface_mesh, Surface_mesh>::default_extremity_persistence;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -224,8 +234,15 @@ int main(int argc, char** argv) {
       ply_dir = argv[++i];
     else if (a == "--threads" && i + 1 < argc)
       threads = unsigned(std::stoul(argv[++i]));
-    else if (a == "--extremity-features")
-      extremities = true;
+    else if (a == "--extremity-features" && i + 1 < argc) {
+      const std::string m = argv[++i];
+      if (m != "off" && m != "all" && m != "select") {
+        std::fprintf(stderr, "bench_accuracy: --extremity-features takes off, all or select\n");
+        return 2;
+      }
+      extremities = m != "off";
+      select = m == "select";
+    }
     else if (a == "--extremity-persistence" && i + 1 < argc)
       persistence = std::stod(argv[++i]);
     else if (!a.empty() && a[0] == '-') {
@@ -241,14 +258,16 @@ int main(int argc, char** argv) {
     if (keep) names.push_back(n);
   }
 
-  char ext[64] = "off";
-  if (extremities) std::snprintf(ext, sizeof ext, "on (persistence %g)", persistence);
+  char ext[96] = "off";
+  if (extremities)
+    std::snprintf(ext, sizeof ext, "%s (persistence %g)", select ? "selected by the worst descriptor mismatch" : "all kept",
+                  persistence);
   std::printf("map accuracy on the wider bench, one run per case, %u thread(s), assertions %s; extremity features "
               "%s; errors in units of sqrt(target area)\n\n",
               threads, bench::assertions(), ext);
   std::printf("| case | truth | V source | V target | features (+ protrusion + extremity) | points | mean | median | max | "
-              "nearest point | nearest after similarity | time (s) |\n");
-  std::printf("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+              "nearest point | nearest after similarity | descriptor mismatch | time (s) |\n");
+  std::printf("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   std::vector<std::pair<std::string, wide_bench::Outcome>> all;
   std::map<std::string, std::vector<std::pair<std::string, wide_bench::Outcome>>> by_family;
   std::size_t absent = 0;
@@ -256,20 +275,21 @@ int main(int argc, char** argv) {
     const std::optional<wide_bench::Case> c = wide_bench::load(n);
     if (!c) {
       ++absent;
-      std::printf("| %s | absent | | | | | | | | | | |\n", n.c_str());
+      std::printf("| %s | absent | | | | | | | | | | | |\n", n.c_str());
       continue;
     }
     const wide_bench::Outcome o = wide_bench::evaluate(
         *c, parameters::number_of_threads(threads, parameters::extremity_features(
-                                                       extremities, parameters::extremity_persistence(persistence))));
+                                                       extremities, parameters::select_extremity_features(select,
+                                                           parameters::extremity_persistence(persistence)))));
     if (!o.ok)
-      std::printf("| %s | %s | %zu | %zu | %zu | | FAILED: %s | | | | | %.1f |\n", n.c_str(), c->is_dense() ? "dense" : "landmarks",
+      std::printf("| %s | %s | %zu | %zu | %zu | | FAILED: %s | | | | | | %.1f |\n", n.c_str(), c->is_dense() ? "dense" : "landmarks",
                   o.source_vertices, o.target_vertices, o.features, o.message.c_str(), o.seconds);
     else
-      std::printf("| %s | %s | %zu | %zu | %zu + %zu + %zu | %zu | %.4f | %.4f | %.4f | %.4f | %.4f | %.1f |\n", n.c_str(),
+      std::printf("| %s | %s | %zu | %zu | %zu + %zu + %zu | %zu | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.1f |\n", n.c_str(),
                   c->is_dense() ? "dense" : "landmarks", o.source_vertices, o.target_vertices, o.features,
                   o.protrusion_features, o.stats.extremity_features, o.points.size(), o.mean, o.median, o.max, o.baseline_mean, o.aligned_mean,
-                  o.seconds);
+                  o.descriptor_mismatch, o.seconds);
     std::fflush(stdout);
     if (show_detail && o.ok) detail(*c, o);
     if (!ply_dir.empty() && o.ok) write_ply(ply_dir, *c, o, png);

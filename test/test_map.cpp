@@ -131,10 +131,10 @@ TEST(Map, UserWeightsPolicy) {
   const Surface_mesh a0 = shapes::make_deformed_sphere(21, 900, true), b0 = shapes::make_deformed_sphere(22, 800, true);
   const Feature_correspondence f = shapes::random_features(a0, b0, 10, 23, false);
   Surface_mesh a1 = a0, b1 = b0, a2 = a0, b2 = b0, a3 = a0, b3 = b0;
-  const Map standard(a1, b1, f, crossparam::parameters::protrusion_features(false));
+  namespace cp = crossparam::parameters;
+  const Map standard(a1, b1, f, cp::protrusion_features(false, cp::extremity_features(false)));
   Counting_mean_value_weights counting;
-  const Map same(a2, b2, f,
-                 crossparam::parameters::smoothing_weights(counting, crossparam::parameters::protrusion_features(false)));
+  const Map same(a2, b2, f, cp::smoothing_weights(counting, cp::protrusion_features(false, cp::extremity_features(false))));
   EXPECT_EQ(*counting.prepared, 2) << "prepare() once per mesh";
   EXPECT_EQ(standard.statistics().distortion.angular, same.statistics().distortion.angular);
   EXPECT_EQ(standard.statistics().smoothing_best_iteration, same.statistics().smoothing_best_iteration);
@@ -396,16 +396,23 @@ TEST(Map, ExtremityFeatures) {
     return sum / double(held_out.size());
   };
   Surface_mesh a = a0, b = b0;
-  Map plain(a, b, f, cp::protrusion_features(false));
+  Map plain(a, b, f, cp::protrusion_features(false, cp::extremity_features(false)));
   EXPECT_EQ(plain.statistics().extremity_features, 0u);
   double worst_before = 0, worst_after = 0;
   const double before = held_out_error(plain, &worst_before);
 
   Surface_mesh c = a0, d = b0;
-  Map ext(c, d, f, cp::protrusion_features(false, cp::extremity_features(true)));
+  // By default the pairs found are candidates, kept because their map disagrees less with the distances to
+  // the features at its worst point (the selection).
+  Map ext(c, d, f, cp::protrusion_features(false));
   expect_map_invariants(ext, ext.features());
   EXPECT_EQ(ext.statistics().protrusion_features, 0u);
   EXPECT_GE(ext.statistics().extremity_features, 1u);
+  EXPECT_EQ(ext.statistics().extremity_features, ext.statistics().extremity_candidates);
+  EXPECT_LT(ext.statistics().mismatch_with_extremities, ext.statistics().mismatch_without_extremities);
+  EXPECT_NEAR(ext.max_descriptor_mismatch(f.size()), ext.statistics().mismatch_with_extremities, 1e-12);
+  EXPECT_LT(ext.descriptor_mismatch(f.size()), ext.max_descriptor_mismatch(f.size()));
+  EXPECT_GT(plain.max_descriptor_mismatch(f.size()), ext.max_descriptor_mismatch(f.size()));
   ASSERT_EQ(ext.features().size(), f.size() + ext.statistics().extremity_features);
   EXPECT_TRUE(std::equal(f.begin(), f.end(), ext.features().begin()));
   const double after = held_out_error(ext, &worst_after);
@@ -415,8 +422,14 @@ TEST(Map, ExtremityFeatures) {
   EXPECT_LT(worst_after, Map::default_extremity_persistence);
   // A persistence that no extremity reaches adds nothing; a non-positive one is refused.
   Surface_mesh e = a0, g = b0;
-  Map none(e, g, f, cp::protrusion_features(false, cp::extremity_features(true, cp::extremity_persistence(100.0))));
+  Map none(e, g, f, cp::protrusion_features(false, cp::extremity_persistence(100.0)));
+  EXPECT_EQ(none.statistics().extremity_candidates, 0u);
   EXPECT_EQ(none.statistics().extremity_features, 0u);
+  EXPECT_EQ(none.statistics().seconds_selection, 0.0); // no candidate, no selection maps
+  // Without the selection every pair found is kept: here the same pairs.
+  Surface_mesh e2 = a0, g2 = b0;
+  Map all_kept(e2, g2, f, cp::protrusion_features(false, cp::select_extremity_features(false)));
+  EXPECT_EQ(all_kept.features(), ext.features());
   Surface_mesh h = a0, k = b0;
   EXPECT_THROW(Map(h, k, f, cp::extremity_features(true, cp::extremity_persistence(0.0))), crossparam::Input_error);
 }

@@ -291,6 +291,7 @@ struct Outcome {
   double baseline_mean = 0, baseline_max = 0; ///< nearest target point to each source point, as given
   double aligned_mean = 0;                    ///< the same after a similarity fitted to the features
   double seconds = 0;
+  double descriptor_mismatch = 0; ///< of the map, over the case's features (no truth needed)
   crossparam::Cross_parameterization_statistics stats;
   Feature_correspondence map_features; ///< the map's features: the case's, then the protrusion features added
   std::vector<Scored> points;
@@ -373,6 +374,7 @@ Outcome evaluate(const Case& c, const NP& np = CGAL::parameters::default_values(
     o.stats = cp.statistics();
     o.protrusion_features = o.stats.protrusion_features;
     o.map_features = cp.features();
+    o.descriptor_mismatch = cp.descriptor_mismatch(c.features.size());
     std::vector<std::array<Surface_mesh::Vertex_index, 3>> tri;
     for (auto f : t0.faces()) {
       std::array<Surface_mesh::Vertex_index, 3> a;

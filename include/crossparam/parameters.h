@@ -20,7 +20,8 @@ struct smoothing_weights_t {};   ///< a model of SmoothingWeights (default Mean_
 struct smoothing_tolerance_t {}; ///< double, base-edge units (default 1e-4)
 struct apply_smoothing_t {};     ///< bool (default true)
 struct protrusion_features_t {}; ///< bool (default true)
-struct extremity_features_t {};  ///< bool (default false)
+struct extremity_features_t {};  ///< bool (default true)
+struct select_extremity_features_t {}; ///< bool (default true)
 struct extremity_persistence_t {}; ///< double, units of sqrt(area) (default 0.05)
 // Compatible remeshing (compatible_remeshing.h)
 struct tolerance_t {};          ///< double, percent of the target's bounding-box diagonal (default 0.5)
@@ -69,12 +70,17 @@ CROSSPARAM_ADD_NAMED_PARAMETER(apply_smoothing)
 /// \brief `bool`, default `true`: add feature pairs at the tips of protrusions that a first map squeezes (an
 /// addition to the paper; see doc/algorithms.md). The pairs added are appended to the user's.
 CROSSPARAM_ADD_NAMED_PARAMETER(protrusion_features)
-/// \brief `bool`, default `false`: add feature pairs at the extremities (tips of fingers, limbs, tails: the
+/// \brief `bool`, default `true`: try feature pairs at the extremities (tips of fingers, limbs, tails: the
 /// geodesic extremities away from every feature) that a first map sends to the wrong place, each extremity
 /// paired with the other mesh's extremity of nearest geodesic-distance descriptor when the choice is mutual (an
-/// addition to the paper; see doc/algorithms.md). For users who give fewer features than the shapes have
-/// extremities; the pairs are appended after the user's and the protrusion features.
+/// addition to the paper; see doc/algorithms.md). With `select_extremity_features` (the default) the pairs are
+/// kept only if the map made with them disagrees less, at its worst point, with the geodesic distances to the
+/// user's features (Cross_parameterization::max_descriptor_mismatch). Kept pairs are appended after the user's
+/// and the protrusion features.
 CROSSPARAM_ADD_NAMED_PARAMETER(extremity_features)
+/// \brief `bool`, default `true`: with `extremity_features`, keep the extremity pairs only if they lower the
+/// map's worst descriptor mismatch (two candidate maps are made, on copies); `false` keeps every pair found.
+CROSSPARAM_ADD_NAMED_PARAMETER(select_extremity_features)
 /// \brief `double`, default 0.05: with `extremity_features`, how far (in units of the square root of the mesh's
 /// area) a local maximum of the distance to the features must rise above the saddle that joins it to a higher
 /// one to count as an extremity; also the least map error at an extremity for which a pair is added.

@@ -56,9 +56,12 @@ inline const char* const usage_text =
     "                    use only the given features (map, remesh, demo): no pairs added at the tips of\n"
     "                    squeezed protrusions\n"
     "  --extremity-features\n"
-    "                    map, remesh, demo: also add pairs at the extremities (fingertips, limbs, tails away\n"
-    "                    from every feature) that a first map sends to the wrong place; for fewer features\n"
-    "                    than the shapes have extremities\n"
+    "                    map, remesh, demo: keep every pair found at the extremities (fingertips, limbs, tails\n"
+    "                    away from every feature) that a first map sends to the wrong place; by default they\n"
+    "                    are kept only if they lower the map's worst disagreement with the distances to the\n"
+    "                    features\n"
+    "  --no-extremity-features\n"
+    "                    map, remesh, demo: do not look for such pairs\n"
     "  --tolerance PCT   remesh: approximation tolerance in percent of the target's bounding-box diagonal\n"
     "                    (default 0.5)\n"
     "  --threads N       map, remesh, demo: threads for the smoothing of the two meshes and the error\n"
@@ -101,7 +104,8 @@ struct Options {
   bool png = false;
   bool smoothing = true;
   bool protrusion_features = true;
-  bool extremity_features = false;
+  bool extremity_features = true;  ///< look for pairs at extremities
+  bool select_extremities = true;  ///< keep them only if they lower the worst descriptor mismatch
   unsigned iterations = 200;
   double tolerance = 0.5;
   unsigned threads = 0;
@@ -180,7 +184,8 @@ inline Options parse(int argc, char** argv) {
     else if (a == "--png") o.png = true;
     else if (a == "--no-smoothing") o.smoothing = false;
     else if (a == "--no-protrusion-features") o.protrusion_features = false;
-    else if (a == "--extremity-features") o.extremity_features = true;
+    else if (a == "--extremity-features") o.extremity_features = true, o.select_extremities = false;
+    else if (a == "--no-extremity-features") o.extremity_features = false;
     else if (a == "--up") o.render.up = parse_vector(a, value());
     else if (a == "--view") o.render.view_direction = parse_vector(a, value());
     else if (a == "--iterations") o.iterations = whole_number(value(), 0, max_iterations, "--iterations needs a whole number up to 100000");

@@ -265,6 +265,12 @@ inline void write_protrusion_pairs(Json_writer& j, const Map& cp) {
   };
   pairs("protrusion_features", n - ends - tips, n - ends);
   pairs("extremity_features", n - ends, n);
+  // The extremity selection: how many pairs the probe found, and the worst descriptor mismatch of the maps
+  // made without and with them (both 0 when no selection was made).
+  const auto& S = cp.statistics();
+  j.key("extremity_selection").begin_object().member("candidates", S.extremity_candidates);
+  j.member("kept", S.extremity_features).member("worst_mismatch_without", S.mismatch_without_extremities);
+  j.member("worst_mismatch_with", S.mismatch_with_extremities).member("seconds", S.seconds_selection).end_object();
 }
 
 /// Writes the outputs of `map` (and the demo's map): the vertex maps both ways, the checkerboard and
