@@ -504,7 +504,8 @@ public:
   }
   /// Face count of input mesh `side`, before any refinement.
   std::size_t input_faces(Mesh_side side) const { return B_.side[internal::side_index(side)].orig_tri.size(); }
-  /// The features of the map: the user's, then the protrusion features added (statistics().protrusion_features).
+  /// The features of the map: the user's, then the protrusion features added (statistics().protrusion_features),
+  /// then the extremity features kept (statistics().extremity_features).
   const Feature_correspondence& features() const { return features_; }
 
   /// \brief How far the map is from preserving the geodesic distances to the first `dims` features, on average.
