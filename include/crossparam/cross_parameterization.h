@@ -174,9 +174,11 @@ public:
         return use(m);
       };
       Feature_correspondence tips, ends;
+      double probe_mismatch = 0; // the probe's worst descriptor mismatch, for the selection below
       on_copies(features, threads_requested, [&](const auto& probe) {
         if (protrusions) tips = probe.protrusion_tips();
         if (extremities) ends = probe.extremity_tips(tips, persistence);
+        if (!ends.empty() && select && tips.empty()) probe_mismatch = probe.max_descriptor_mismatch(features.size());
         return 0;
       });
       features_.insert(features_.end(), tips.begin(), tips.end());
@@ -205,10 +207,16 @@ public:
             return HUGE_VAL;
           }
         };
-        double without = 0, with_ends = 0;
-        const unsigned each = threads_ >= 2 ? 1u : threads_;
-        internal::parallel_invoke(
-            threads_, [&] { without = candidate(features_, each); }, [&] { with_ends = candidate(with, each); });
+        // Without protrusion pairs, the map without the extremity pairs is the probe itself: its figure is
+        // taken, and only the map with them is made.
+        double without = probe_mismatch, with_ends = 0;
+        if (tips.empty()) {
+          with_ends = candidate(with, threads_requested);
+        } else {
+          const unsigned each = threads_ >= 2 ? 1u : threads_;
+          internal::parallel_invoke(
+              threads_, [&] { without = candidate(features_, each); }, [&] { with_ends = candidate(with, each); });
+        }
         stats_.mismatch_without_extremities = without;
         stats_.mismatch_with_extremities = with_ends;
         stats_.seconds_selection = sec(ts, clock::now());
