@@ -434,6 +434,53 @@ TEST(Map, ExtremityFeatures) {
   EXPECT_THROW(Map(h, k, f, cp::extremity_features(true, cp::extremity_persistence(0.0))), crossparam::Input_error);
 }
 
+// Protrusion pairs on mirror-symmetric shapes: with features on the plane of symmetry only (nose, head, back,
+// belly, chest, tail tip), a left leg and the right one have the same distances to every feature, and only the
+// probe map's anchors tell them apart (algorithms.md, protrusion features, anchored descriptors). The legs are
+// long enough for the probe to squeeze all four. Every pair added must join the same limb on both creatures:
+// the held-out foot nearest to its source vertex and the one nearest to its target vertex are the same. (With
+// the distances to the features alone, four of the six pairs found here join a left foot to a right one.)
+TEST(Map, ProtrusionPairsJoinCorrespondingLimbs) {
+  namespace cp = crossparam::parameters;
+  shapes::Creature_params pa = shapes::creature_a_params(), pb = shapes::creature_a_params();
+  pa.leg_length = 1.1;
+  pb.body_radii = {1.1, 0.46, 0.40};
+  pb.neck_elevation_deg = 55;
+  pb.leg_length = 1.1;
+  pb.leg_splay_deg = 14;
+  const Surface_mesh a0 = shapes::make_creature(pa), b0 = shapes::make_creature(pb);
+  const Feature_correspondence all = shapes::creature_features(a0, pa, b0, pb);
+  const std::vector<std::size_t> given{0, 1, 7, 8, 9, 6}, tips{2, 3, 4, 5}; // creature_feature_names()
+  Feature_correspondence f;
+  for (std::size_t k : given) f.push_back(all[k]);
+  Surface_mesh a = a0, b = b0;
+  Map m(a, b, f, cp::extremity_features(false));
+  expect_map_invariants(m, m.features());
+  const std::size_t added = m.statistics().protrusion_features;
+  std::cout << "[ protrusion ] " << added << " pairs added on the symmetric creatures\n";
+  EXPECT_EQ(added, 4u); // one per leg
+  auto nearest_tip = [&](const Surface_mesh& mesh, std::size_t v, bool source) {
+    const Point_3 p = mesh.point(Surface_mesh::Vertex_index(Surface_mesh::size_type(v)));
+    std::size_t best = 0;
+    double bd = HUGE_VAL;
+    for (std::size_t k : tips) {
+      const std::size_t w = source ? all[k].source : all[k].target;
+      const double d = CGAL::squared_distance(p, mesh.point(Surface_mesh::Vertex_index(Surface_mesh::size_type(w))));
+      if (d < bd) {
+        bd = d;
+        best = k;
+      }
+    }
+    return best;
+  };
+  for (std::size_t i = f.size(); i < f.size() + added; ++i) {
+    const Feature_pair& p = m.features()[i];
+    EXPECT_EQ(nearest_tip(a0, p.source, true), nearest_tip(b0, p.target, false))
+        << "pair " << i << " joins " << shapes::creature_feature_names()[nearest_tip(a0, p.source, true)] << " to "
+        << shapes::creature_feature_names()[nearest_tip(b0, p.target, false)];
+  }
+}
+
 // A Polyhedron_3 source with Face_location queries.
 TEST(Map, PolyhedronSource) {
   using Polyhedron = CGAL::Polyhedron_3<Kernel, CGAL::Polyhedron_items_with_id_3>;

@@ -533,7 +533,8 @@ public:
   /// the parameterization: its vertices' stretch is 10^4 to 10^8 times the median. Such a cluster (connected
   /// vertices above 100 times the median, at least `min_size` of them, peaking above `min_squeeze` times the
   /// median) is paired through its extremity (see extremity_tips) when that extremity and one of the other
-  /// mesh are each other's nearest by geodesic-distance descriptor (distances to the features). Otherwise its
+  /// mesh are each other's nearest by geodesic-distance descriptor: the distances to the features and to this
+  /// map's anchors (see anchor_distances), which tell mirror-symmetric limbs apart. Otherwise its
   /// tip, where the stretch peaks, is paired with the vertex of the other mesh with the nearest descriptor, or
   /// with the other mesh's tip if that vertex lies in a squeezed cluster there. Vertices are input vertices
   /// (the nearest one to a split vertex); no vertex already a feature is used again.
@@ -609,13 +610,22 @@ public:
     // those of extremity_tips at the default persistence.
     const std::array<std::vector<std::pair<WV, double>>, 2> ext{extremities(0, default_extremity_persistence),
                                                                 extremities(1, default_extremity_persistence)};
+    // The distances to the features alone cannot tell a left limb from a right one when the features lie near
+    // the plane of symmetry or are few (SHREC'07 animals with 11 features: a squeezed hind leg paired with the
+    // other hind leg, or with the tail). This map can: away from its squeezes it is right and keeps the
+    // orientation, so the distances to its anchors, as many as there are features, are compared as well.
+    // They are made only if some cluster counts.
+    bool any_strong = false;
+    for (int k = 0; k < 2; ++k)
+      for (std::size_t c = 0; c < clusters[k].size(); ++c) any_strong = any_strong || strong(k, int(c));
+    const Anchor_distances anchors = any_strong ? anchor_distances(features_.size()) : Anchor_distances();
     // The pair (a on mesh k, b on the other) through the extremities of cluster c of mesh k, if there is one.
     auto through_extremities = [&](int k, int c, WV& a, WV& b) {
       std::size_t i = ext[k].size();
       for (std::size_t x = 0; x < ext[k].size(); ++x)
         if (cluster_of[k][ext[k][x].first] == c && (i == ext[k].size() || ext[k][x].second > ext[k][i].second)) i = x;
       if (i == ext[k].size()) return false;
-      const std::size_t j = mutual_nearest_by_descriptor(ext, k, i);
+      const std::size_t j = mutual_nearest_by_descriptor(ext, k, i, &anchors);
       if (j == ext[1 - k].size()) return false;
       a = ext[k][i].first;
       b = ext[1 - k][j].first;
@@ -700,15 +710,80 @@ public:
 private:
   friend struct internal::Cross_parameterization_access;
 
+  /// Per mesh, per anchor, per working vertex: the graph-geodesic distance to the anchor over sqrt(area).
+  using Anchor_distances = std::array<std::vector<std::vector<double>>, 2>;
+
+  /// \brief Pairs of points that this map sends to the right place, for telling symmetric parts apart.
+  ///
+  /// Up to `count` source vertices where the map is reliable: not squeezed (relative stretch at most
+  /// `anchor_max_stretch`, a tenth of a protrusion cluster's) and agreeing with the features' distances at
+  /// least as well as half of the source does (image mismatch at most the median), chosen by farthest-point
+  /// sampling from the features so that they spread over the shape; each is paired with the target vertex
+  /// nearest to its image (the corner of largest barycentric coordinate). Returns the distances to the anchors
+  /// on the source and to their images on the target.
+  Anchor_distances anchor_distances(std::size_t count) const {
+    using internal::WV;
+    constexpr double anchor_max_stretch = 10;
+    const internal::Layout_mesh &Ls = B_.side[0], &Lt = B_.side[1];
+    Anchor_distances out;
+    const std::vector<double> st = relative_stretch(P_[0]);
+    if (st.empty() || count == 0 || Ls.m.number_of_vertices() == 0) return out;
+    std::vector<double> mismatch(Ls.m.number_of_vertices());
+    for (WV v : Ls.m.vertices()) mismatch[v] = image_mismatch(v);
+    std::vector<double> sorted = mismatch;
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    const double median = sorted[sorted.size() / 2];
+    std::vector<double> far = Ls.graph_distances(Ls.feature_vertex);
+    std::vector<WV> image; // per anchor, the target vertex at its image
+    while (out[0].size() < count) {
+      double best = 0;
+      WV arg(0);
+      for (WV v : Ls.m.vertices())
+        if (st[v] <= anchor_max_stretch && mismatch[v] <= median && far[v] > best) {
+          best = far[v];
+          arg = v;
+        }
+      if (!(best > 0)) break;
+      out[0].push_back(Ls.graph_distances({arg}));
+      for (std::size_t i = 0; i < far.size(); ++i) far[i] = std::min(far[i], out[0].back()[i]);
+      const internal::Work_location l = locator_[1].locate(P_[0][arg]);
+      const internal::WH h = Lt.m.halfedge(l.face);
+      const WV u[3] = {Lt.m.source(h), Lt.m.target(h), Lt.m.target(Lt.m.next(h))};
+      const int c = int(std::max_element(l.b.begin(), l.b.end()) - l.b.begin());
+      image.push_back(u[c]);
+    }
+    for (WV a : image) out[1].push_back(Lt.graph_distances({a}));
+    for (int k = 0; k < 2; ++k) {
+      const double area = B_.side[k].area();
+      const double scale = area > 0 ? 1 / std::sqrt(area) : 1;
+      for (std::vector<double>& d : out[k])
+        for (double& x : d) x *= scale;
+    }
+    return out;
+  }
+
+  /// The distance between the descriptors of v on mesh k and u on the other mesh, with the anchor distances
+  /// as further coordinates if `anchors` is given.
+  double descriptor_distance(int k, internal::WV v, internal::WV u, const Anchor_distances* anchors) const {
+    const double d = descriptor_distance(B_.side[k].desc[v], B_.side[1 - k].desc[u]);
+    if (!anchors) return d;
+    double s = d * d;
+    for (std::size_t i = 0; i < (*anchors)[k].size(); ++i) {
+      const double x = (*anchors)[k][i][v] - (*anchors)[1 - k][i][u];
+      s += x * x;
+    }
+    return std::sqrt(s);
+  }
+
   /// The index of the vertex of list[1-k] whose descriptor is nearest to that of list[k][i] (list[1-k].size()
-  /// if that list is empty).
+  /// if that list is empty), with the anchor distances if given.
   template <class List>
-  std::size_t nearest_by_descriptor(const std::array<List, 2>& list, int k, std::size_t i) const {
+  std::size_t nearest_by_descriptor(const std::array<List, 2>& list, int k, std::size_t i,
+                                    const Anchor_distances* anchors = nullptr) const {
     std::size_t best = list[1 - k].size();
     double bd = HUGE_VAL;
     for (std::size_t j = 0; j < list[1 - k].size(); ++j) {
-      const double dd =
-          descriptor_distance(B_.side[k].desc[list[k][i].first], B_.side[1 - k].desc[list[1 - k][j].first]);
+      const double dd = descriptor_distance(k, list[k][i].first, list[1 - k][j].first, anchors);
       if (dd < bd) {
         bd = dd;
         best = j;
@@ -720,9 +795,10 @@ private:
   /// The index j of the vertex of list[1-k] such that list[k][i] and list[1-k][j] are each other's nearest by
   /// descriptor (nearest_by_descriptor both ways), or list[1-k].size() if there is none.
   template <class List>
-  std::size_t mutual_nearest_by_descriptor(const std::array<List, 2>& list, int k, std::size_t i) const {
-    const std::size_t j = nearest_by_descriptor(list, k, i);
-    return j < list[1 - k].size() && nearest_by_descriptor(list, 1 - k, j) == i ? j : list[1 - k].size();
+  std::size_t mutual_nearest_by_descriptor(const std::array<List, 2>& list, int k, std::size_t i,
+                                           const Anchor_distances* anchors = nullptr) const {
+    const std::size_t j = nearest_by_descriptor(list, k, i, anchors);
+    return j < list[1 - k].size() && nearest_by_descriptor(list, 1 - k, j, anchors) == i ? j : list[1 - k].size();
   }
 
   /// The extremities of mesh k: its working vertices where d(v), the distance to the nearest feature (the

@@ -143,29 +143,36 @@ public:
     const double sc = area > 0 ? 1.0 / std::sqrt(area) : 1.0;
     const std::size_t nf = feature_vertex.size();
     desc.assign(m.number_of_vertices(), std::vector<float>(nf, 0.f));
-    std::vector<double> d(m.number_of_vertices());
-    using QE = std::pair<double, std::uint32_t>;
     for (std::size_t k = 0; k < nf; ++k) {
-      std::fill(d.begin(), d.end(), HUGE_VAL);
-      std::priority_queue<QE, std::vector<QE>, std::greater<QE>> q;
-      d[feature_vertex[k]] = 0;
-      q.push({0.0, std::uint32_t(feature_vertex[k])});
-      while (!q.empty()) {
-        auto [dd, vi] = q.top();
-        q.pop();
-        WV v(vi);
-        if (dd > d[v]) continue;
-        for (WH h : CGAL::halfedges_around_source(v, m)) {
-          WV w = m.target(h);
-          double nd = dd + edge_length(h);
-          if (nd < d[w]) {
-            d[w] = nd;
-            q.push({nd, std::uint32_t(w)});
-          }
-        }
-      }
+      const std::vector<double> d = graph_distances({feature_vertex[k]});
       for (WV v : m.vertices()) desc[v][k] = float(d[v] * sc);
     }
+  }
+
+  /// Per vertex, the length of the shortest edge path to the nearest of `seeds` (Dijkstra on the edge graph).
+  std::vector<double> graph_distances(const std::vector<WV>& seeds) const {
+    std::vector<double> d(m.number_of_vertices(), HUGE_VAL);
+    using QE = std::pair<double, std::uint32_t>;
+    std::priority_queue<QE, std::vector<QE>, std::greater<QE>> q;
+    for (WV s : seeds) {
+      d[s] = 0;
+      q.push({0.0, std::uint32_t(s)});
+    }
+    while (!q.empty()) {
+      auto [dd, vi] = q.top();
+      q.pop();
+      WV v(vi);
+      if (dd > d[v]) continue;
+      for (WH h : CGAL::halfedges_around_source(v, m)) {
+        WV w = m.target(h);
+        double nd = dd + edge_length(h);
+        if (nd < d[w]) {
+          d[w] = nd;
+          q.push({nd, std::uint32_t(w)});
+        }
+      }
+    }
+    return d;
   }
 
   /// Distance from the descriptor of v to the nearest of `ref` (descriptors of a path on the other mesh).
