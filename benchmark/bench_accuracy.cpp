@@ -17,6 +17,7 @@
 //   --extremity-features MODE    select (the default: the pairs kept when they lower the map's worst
 //                                descriptor mismatch), all (every pair found kept) or off
 //   --extremity-persistence X    their persistence threshold (default 0.05, in sqrt(area) units)
+//   --straighten-paths           the layout's paths shortened once it is complete (parameters::straighten_paths)
 // The table's "descriptor mismatch" is the map's mean disagreement with the geodesic distances to the case's
 // features (Cross_parameterization::descriptor_mismatch), a figure that needs no truth.
 #include "../test/wide_cases.h"
@@ -215,7 +216,7 @@ int main(int argc, char** argv) {
   bool show_detail = false, png = false;
   fs::path ply_dir;
   unsigned threads = 1;
-  bool extremities = true, select = true;
+  bool extremities = true, select = true, straighten = false;
   double persistence = Cross_parameterization<Surface_mesh, Surface_mesh>::default_extremity_persistence;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -243,6 +244,8 @@ int main(int argc, char** argv) {
       extremities = m != "off";
       select = m == "select";
     }
+    else if (a == "--straighten-paths")
+      straighten = true;
     else if (a == "--extremity-persistence" && i + 1 < argc)
       persistence = std::stod(argv[++i]);
     else if (!a.empty() && a[0] == '-') {
@@ -263,8 +266,8 @@ int main(int argc, char** argv) {
     std::snprintf(ext, sizeof ext, "%s (persistence %g)", select ? "selected by the worst descriptor mismatch" : "all kept",
                   persistence);
   std::printf("map accuracy on the wider bench, one run per case, %u thread(s), assertions %s; extremity features "
-              "%s; errors in units of sqrt(target area)\n\n",
-              threads, bench::assertions(), ext);
+              "%s;%s errors in units of sqrt(target area)\n\n",
+              threads, bench::assertions(), ext, straighten ? " paths straightened;" : "");
   std::printf("| case | truth | V source | V target | features (+ protrusion + extremity) | points | mean | median | max | "
               "nearest point | nearest after similarity | descriptor mismatch | time (s) |\n");
   std::printf("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
@@ -281,7 +284,7 @@ int main(int argc, char** argv) {
     const wide_bench::Outcome o = wide_bench::evaluate(
         *c, parameters::number_of_threads(threads, parameters::extremity_features(
                                                        extremities, parameters::select_extremity_features(select,
-                                                           parameters::extremity_persistence(persistence)))));
+                                                           parameters::extremity_persistence(persistence, parameters::straighten_paths(straighten))))));
     if (!o.ok)
       std::printf("| %s | %s | %zu | %zu | %zu | | FAILED: %s | | | | | | %.1f |\n", n.c_str(), c->is_dense() ? "dense" : "landmarks",
                   o.source_vertices, o.target_vertices, o.features, o.message.c_str(), o.seconds);

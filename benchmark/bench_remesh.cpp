@@ -6,6 +6,7 @@
 //        bench_remesh --wide [TOLERANCES] [CASE_FILTER]: the cases of the wider bench (test/wide_cases.h) that
 //        are not ../shared/bench's (shrec, hand and tosca pairs), e.g. CASE_FILTER "tosca/" or "_k12".
 // TOLERANCES: one or several percentages separated by commas, e.g. 1,0.5,0.2,0.1 (default 0.5).
+// --straighten-paths (anywhere): the maps' layouts with their paths straightened (parameters::straighten_paths).
 #include <crossparam/compatible_remeshing.h>
 #include <crossparam/io.h>
 #include <crossparam/remeshing_verification.h>
@@ -33,13 +34,16 @@ struct Remesh_case {
 };
 
 /// One row per tolerance for case `c`: the map, the remeshing, the independent verification.
+bool straighten = false; // --straighten-paths
+
 void run(const Remesh_case& c, double tol) {
   Surface_mesh s = c.source, t = c.target;
   const std::size_t ns = s.number_of_vertices(), nt = t.number_of_vertices();
   const auto t_start = std::chrono::steady_clock::now();
   std::unique_ptr<Cross_parameterization<Surface_mesh, Surface_mesh>> map;
   try {
-    map = std::make_unique<Cross_parameterization<Surface_mesh, Surface_mesh>>(s, t, c.features);
+    map = std::make_unique<Cross_parameterization<Surface_mesh, Surface_mesh>>(
+        s, t, c.features, crossparam::parameters::straighten_paths(straighten));
   } catch (const Insufficient_features_error& e) { // genus > 0 with too few features: reported, not fatal
     std::printf("| %s | %.3g | %zu/%zu | too few features: %s |\n", c.name.c_str(), tol, ns, nt, e.what());
     return;
@@ -71,13 +75,21 @@ std::vector<double> parse_tolerances(const std::string& list) {
 }
 } // namespace
 
-int main(int argc, char** argv) {
+int main(int argc_given, char** argv_given) {
+  std::vector<char*> args;
+  for (int i = 0; i < argc_given; ++i)
+    if (std::string(argv_given[i]) == "--straighten-paths")
+      straighten = true;
+    else
+      args.push_back(argv_given[i]);
+  const int argc = int(args.size());
+  char** argv = args.data();
   const bool wide = argc > 1 && std::string(argv[1]) == "--wide";
   fs::path dir = argc > 1 && !wide ? fs::path(argv[1]) : fs::path(CROSSPARAM_SHARED_DIR) / "bench";
   const std::vector<double> tolerances = parse_tolerances(argc > 2 ? argv[2] : "0.5");
   const std::string filter = argc > 3 ? argv[3] : "";
-  std::printf("compatible remeshing, tolerance in %% of the target's bbox diagonal, one run per case, assertions %s\n\n",
-              bench::assertions());
+  std::printf("compatible remeshing, tolerance in %% of the target's bbox diagonal, one run per case, assertions %s%s\n\n",
+              bench::assertions(), straighten ? "; layout paths straightened" : "");
   std::printf("| case | tol. %% | input sizes (#v) | output size | added | L2 error (%%) | Hausdorff (%%) | flipped (at target folds) | >30°: faces / area %% | creases out / in | self-int. out / in (new) | valid | map (s) | remesh (s) | total (s) |\n");
   std::printf("|---|---:|---|---:|---:|---:|---:|---:|---|---|---|---|---:|---:|---:|\n");
   if (wide) {

@@ -25,8 +25,12 @@ struct Bounds {
 // 0.0905 (shrec/382_383), 0.0338, 0.0402 on the whole set. Without extremity features: 0.132, 0.381, 0.0310,
 // 0.177 on the subset and 0.0744, 0.381, 0.0350, 0.121 on the whole set, the worst case being a hand whose
 // held-out fingertip is mapped far from every fingertip (bench_accuracy --detail hand). With every extremity
-// pair kept: 0.0377, 0.0987, 0.0341, 0.0420 on the whole set.
+// pair kept: 0.0377, 0.0987, 0.0341, 0.0420 on the whole set. With the layout's paths straightened
+// (parameters::straighten_paths): 0.0242, 0.0504 (shrec/382_385), 0.0290, 0.0220 on the subset and 0.0347, 0.0883
+// (shrec/382_383), 0.0306, 0.0395 on the whole set.
 constexpr Bounds subset_bounds{0.0285, 0.055, 0.034, 0.0262};
+constexpr Bounds straight_subset_bounds{0.0267, 0.0555, 0.032, 0.0243};
+constexpr Bounds straight_all_bounds{0.0382, 0.097, 0.0337, 0.0435};
 constexpr Bounds all_bounds{0.0405, 0.10, 0.037, 0.044};
 constexpr Bounds off_subset_bounds{0.145, 0.42, 0.034, 0.195};
 constexpr Bounds off_all_bounds{0.082, 0.42, 0.0385, 0.133};
@@ -37,14 +41,17 @@ using Results = std::vector<std::pair<std::string, wide_bench::Outcome>>;
 /// The extremity features: the default selection, none, or every pair found kept.
 enum class Extremities { select, off, all };
 
-Results run(const std::vector<std::string>& names, Extremities mode) {
+/// The maps of the named cases, with the extremity features as `mode` says and the layout's paths straightened
+/// or not.
+Results run(const std::vector<std::string>& names, Extremities mode, bool straighten) {
   namespace cp = crossparam::parameters;
   Results r;
   for (const std::string& n : names) {
     const std::optional<wide_bench::Case> c = wide_bench::load(n);
     if (!c) continue;
     r.emplace_back(n, wide_bench::evaluate(*c, cp::extremity_features(mode != Extremities::off,
-                                                                      cp::select_extremity_features(mode == Extremities::select))));
+                                                                      cp::select_extremity_features(mode == Extremities::select,
+                                                                          cp::straighten_paths(straighten)))));
     const wide_bench::Outcome& o = r.back().second;
     std::cout << "[ accuracy ] " << n << ": " << (o.ok ? "" : "FAILED " + o.message) << " mean " << o.mean << " max "
               << o.max << " (nearest point " << o.baseline_mean << ")\n";
@@ -73,10 +80,11 @@ const std::vector<std::string>& subset_names() {
   return subset;
 }
 
-/// Runs the cases (with the extremity features as `mode` says) and checks the aggregates against the bounds;
-/// skips when the shared data is absent.
-void run_and_check(const std::string& label, const std::vector<std::string>& names, Extremities mode, const Bounds& b) {
-  const Results r = run(names, mode);
+/// Runs the cases (with the extremity features as `mode` says, the paths straightened if `straighten`) and checks
+/// the aggregates against the bounds; skips when the shared data is absent.
+void run_and_check(const std::string& label, const std::vector<std::string>& names, Extremities mode, const Bounds& b,
+                   bool straighten = false) {
+  const Results r = run(names, mode, straighten);
   if (r.empty()) GTEST_SKIP() << "shared data not found at " << wide_bench::shared_dir() << ": skipping";
   ASSERT_EQ(r.size(), names.size()) << "part of the shared data is missing";
   const wide_bench::Aggregate all = wide_bench::aggregate(r);
@@ -107,6 +115,11 @@ TEST(WideBench, RepresentativeSubsetWithoutExtremityFeatures) {
   run_and_check("subset, no extremity features", subset_names(), Extremities::off, off_subset_bounds);
 }
 
+// The layout's paths straightened (off by default): the option stays pinned too.
+TEST(WideBench, RepresentativeSubsetWithStraightenedPaths) {
+  run_and_check("subset, paths straightened", subset_names(), Extremities::select, straight_subset_bounds, true);
+}
+
 // The whole wider bench (several minutes each): CROSSPARAM_WIDE_BENCH=1.
 TEST(WideBench, WholeSet) {
   if (!whole_set_requested()) GTEST_SKIP() << "the whole wider bench runs with CROSSPARAM_WIDE_BENCH=1";
@@ -117,4 +130,5 @@ TEST(WideBench, WholeSetVariants) {
   if (!whole_set_requested()) GTEST_SKIP() << "the whole wider bench runs with CROSSPARAM_WIDE_BENCH=1";
   run_and_check("all, no extremity features", wide_bench::names(), Extremities::off, off_all_bounds);
   run_and_check("all, every extremity pair kept", wide_bench::names(), Extremities::all, every_all_bounds);
+  run_and_check("all, paths straightened", wide_bench::names(), Extremities::select, straight_all_bounds, true);
 }

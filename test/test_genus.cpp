@@ -328,6 +328,25 @@ TEST(Genus, RandomizedLayouts) {
   for (int g = 1; g <= 3; ++g) EXPECT_GT(per_genus[g], 0u);
 }
 
+// Straightening (parameters::straighten_paths) on meshes with handles: paths are moved only inside the disk of
+// their two triangles, so every layout still verifies, with the genus it had.
+TEST(Genus, StraightenedLayouts) {
+  std::mt19937 rng(20261127);
+  std::size_t straightened = 0;
+  for (std::size_t trial = 0; trial < 15; ++trial) {
+    const Random_genus_case c = random_genus_case(rng, trial);
+    const Chain_mesh &a = chain_mesh(c.genus, c.va), &b = chain_mesh(c.genus, c.vb);
+    Surface_mesh s = a.mesh, t = b.mesh;
+    const Feature_correspondence f = features_at(s, a.chain, t, b.chain, c.anchors, c.motion);
+    SCOPED_TRACE(c.name);
+    Patch_layout L;
+    ASSERT_NO_THROW(L = compute_patch_layouts(s, t, f, parameters::straighten_paths(true), CGAL::parameters::default_values()));
+    expect_genus_layout(s, t, f, L, c.genus);
+    straightened += L.statistics.straightened;
+  }
+  EXPECT_GT(straightened, 0u);
+}
+
 // The whole map on random pairs of genus 1 to 3 (random_genus_case, another seed): both certificates valid,
 // every feature exact. Then whether the handles map to the right handles: held-out points on every ring (four
 // per ring, on the cross-sections of its features, between them around the tube; the joins between rings are

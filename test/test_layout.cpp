@@ -77,6 +77,50 @@ TEST(Layout, RandomizedGenusZero) {
   EXPECT_GT(flips, 0u);      // and so were path flips
 }
 
+namespace {
+/// The length of every path of a layout, on one mesh.
+double total_path_length(const Surface_mesh& m, const Mesh_layout& L) {
+  double total = 0;
+  for (const auto& p : L.paths)
+    for (std::size_t i = 0; i + 1 < p.size(); ++i)
+      total += std::sqrt(CGAL::squared_distance(m.point(Surface_mesh::Vertex_index(Surface_mesh::size_type(p[i]))),
+                                                m.point(Surface_mesh::Vertex_index(Surface_mesh::size_type(p[i + 1])))));
+  return total;
+}
+} // namespace
+
+// Straightening (parameters::straighten_paths): the same layout as without it, its paths replaced by shorter ones
+// inside their two patches: verified, the same base mesh and splits, and the paths of both meshes together no
+// longer on any trial, shorter on most.
+TEST(Layout, StraighteningShortensPaths) {
+  std::mt19937 rng(20261127);
+  std::size_t straightened = 0, shorter = 0;
+  const std::size_t trials = 30;
+  for (std::size_t trial = 0; trial < trials; ++trial) {
+    const unsigned seed = unsigned(rng());
+    Surface_mesh a = shapes::make_deformed_sphere(seed, 300 + rng() % 1200, trial % 2 == 0);
+    Surface_mesh b = shapes::make_deformed_sphere(seed + 1, 300 + rng() % 1200, true);
+    const Feature_correspondence f = shapes::random_features(a, b, 6 + rng() % 30, seed + 2, trial % 3 == 0);
+    SCOPED_TRACE("trial " + std::to_string(trial) + " seed " + std::to_string(seed));
+    Surface_mesh a0 = a, b0 = b, a2 = a, b2 = b;
+    const Patch_layout plain = compute_patch_layouts(a, b, f);
+    Patch_layout L;
+    ASSERT_NO_THROW(L = compute_patch_layouts(a2, b2, f, parameters::straighten_paths(true), CGAL::parameters::default_values()));
+    expect_layout_invariants(a0, b0, a2, b2, f, L);
+    EXPECT_EQ(L.base_triangles, plain.base_triangles);
+    EXPECT_EQ(L.source.splits.size(), plain.source.splits.size()); // no vertex added
+    EXPECT_EQ(L.target.splits.size(), plain.target.splits.size());
+    const double before = total_path_length(a, plain.source) + total_path_length(b, plain.target);
+    const double after = total_path_length(a2, L.source) + total_path_length(b2, L.target);
+    EXPECT_LE(after, before * (1 + 1e-12));
+    EXPECT_EQ(plain.statistics.straightened, 0u);
+    straightened += L.statistics.straightened;
+    shorter += after < before;
+  }
+  EXPECT_GT(straightened, 0u);
+  EXPECT_GE(shorter, trials / 2);
+}
+
 // The smallest case: 4 features give a tetrahedral base mesh.
 TEST(Layout, FourFeaturesTetrahedron) {
   Surface_mesh a = shapes::make_deformed_sphere(1, 300, false), b = shapes::make_deformed_sphere(2, 500, true);

@@ -272,6 +272,19 @@ TEST(Map, GeneratedPairs) {
   }
 }
 
+// The map on straightened layouts (parameters::straighten_paths): certified, features exact, round trip.
+TEST(Map, StraightenedPaths) {
+  for (unsigned seed : {111u, 222u}) {
+    Surface_mesh a = shapes::make_deformed_sphere(seed, 1500, true), b = shapes::make_deformed_sphere(seed + 7, 1200, true);
+    Feature_correspondence f = shapes::random_features(a, b, 10 + seed % 7, seed + 1, false);
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    Map cp(a, b, f, parameters::straighten_paths(true));
+    expect_map_invariants(cp, f);
+    EXPECT_GT(cp.statistics().layout.straightened, 0u);
+    EXPECT_LT(max_round_trip_error(cp, a, 300), 1e-6);
+  }
+}
+
 // Random genus-0 pairs with 4 to 33 features, a third twisted: every map certified, features exact,
 // distortion lowered. CROSSPARAM_MAP_TRIALS=N runs longer.
 TEST(Map, Randomized) {

@@ -156,6 +156,7 @@ public:
       using namespace crossparam::parameters;
       const bool flips = choose_parameter(get_parameter(np_source, internal_np::apply_path_flips_t()), true);
       const bool consistent = choose_parameter(get_parameter(np_source, internal_np::consistent_paths_t()), true);
+      const bool straighten = choose_parameter(get_parameter(np_source, internal_np::straighten_paths_t()), false);
       // A map with features `fc` and this map's options (neither protrusion nor extremity features), made on
       // copies of the inputs in the same vertex order, so that feature indices carry over (the copy assumes
       // the checked, closed manifold meshes); returns use(map). The meshes passed in are not touched.
@@ -169,8 +170,8 @@ public:
             cs, ct, fc,
             internal::inputs_checked(protrusion_features(false, extremity_features(false, smoothing_weights(weights,
                 smoothing_tolerance(so.tolerance, apply_smoothing(smooth, apply_path_flips(flips, consistent_paths(
-                    consistent, number_of_threads(threads, time_limit(budget.remaining(), best_effort(
-                        budget.best_effort(), number_of_iterations(so.max_iterations)))))))))))));
+                    consistent, straighten_paths(straighten, number_of_threads(threads, time_limit(budget.remaining(),
+                        best_effort(budget.best_effort(), number_of_iterations(so.max_iterations))))))))))))));
         return use(m);
       };
       Feature_correspondence tips, ends;

@@ -33,6 +33,7 @@ struct Layout_statistics {
   std::size_t splits_target = 0;          ///< edge splits on the target
   std::size_t flips = 0;                  ///< path flips (§3.3)
   std::size_t guided_paths = 0;           ///< pairs replaced by a more consistent descriptor-guided variant
+  std::size_t straightened = 0;           ///< path pairs replaced by shorter ones once the layout was complete
   std::size_t adjacency_splits_source = 0; ///< splits of §4.2 (edges joining two boundary vertices of a patch)
   std::size_t adjacency_splits_target = 0;
   std::size_t rejected_blocking = 0;      ///< candidate pairs dropped by the blocking test
@@ -41,6 +42,7 @@ struct Layout_statistics {
   double seconds_edge_paths = 0;
   double seconds_face_paths = 0;
   double seconds_flips = 0;
+  double seconds_straightening = 0;
   double seconds_total = 0;
 };
 

@@ -221,7 +221,9 @@ void write_layout_outputs(TriangleMesh& tm, const NamedParameters& np, const Lay
 ///   - `crossparam::parameters::vertex_feature_map` (output, vertex -> int): feature id, -1 elsewhere,
 ///   - `crossparam::parameters::apply_path_flips` (bool, default true; read from `np_source`),
 ///   - `crossparam::parameters::consistent_paths` (bool, default true; read from `np_source`): trace
-///     matching paths that agree in geodesic distances to the features (an addition to the paper).
+///     matching paths that agree in geodesic distances to the features (an addition to the paper),
+///   - `crossparam::parameters::straighten_paths` (bool, default false; read from `np_source`): once the
+///     layout is complete, shorten each path inside its two patches (an addition to the paper).
 /// \pre both meshes closed, manifold, connected triangle meshes of the same genus with finite coordinates;
 ///      features distinct and in range. Each is checked: violations throw `Input_error` (or `Feature_error`,
 ///      `Incompatible_inputs_error`) naming the problem. For genus g > 0 the features must also be enough to cut
@@ -259,10 +261,12 @@ Patch_layout compute_patch_layouts_impl(SourceMesh& tm_s, TargetMesh& tm_t, cons
                                 get_property_map(CGAL::vertex_point, tm_t));
   const bool flips = choose_parameter(get_parameter(np_source, internal_np::apply_path_flips_t()), true);
   const bool consistent = choose_parameter(get_parameter(np_source, internal_np::consistent_paths_t()), true);
+  const bool straighten = choose_parameter(get_parameter(np_source, internal_np::straighten_paths_t()), false);
 
   // The inputs were checked by the public entry point (internal::check_layout_inputs).
   B.do_flips = flips;
   B.consistent_paths = consistent;
+  B.do_straighten = straighten;
   make_work_mesh(tm_s, vpm_s, B.side[0]);
   make_work_mesh(tm_t, vpm_t, B.side[1]);
   // Both meshes have this genus (internal::check_layout_inputs): V - E + F = 2 - 2 genus.

@@ -115,13 +115,13 @@ inline Map cross_parameterize(const Options& o, Surface_mesh& s, Surface_mesh& t
   namespace cp = crossparam::parameters;
   return Map(s, t, f,
              cp::apply_path_flips(
-                 o.flips, cp::apply_smoothing(
+                 o.flips, cp::straighten_paths(o.straighten, cp::apply_smoothing(
                               o.smoothing, cp::protrusion_features(
                                                o.protrusion_features, cp::extremity_features(o.extremity_features,
                                                cp::select_extremity_features(o.select_extremities, cp::number_of_threads(
                                                    o.threads, cp::time_limit(remaining_seconds(o), cp::best_effort(o.best_effort,
                                                        cp::progress(progress_printer(o),
-                                                           CGAL::parameters::number_of_iterations(o.iterations)))))))))),
+                                                           CGAL::parameters::number_of_iterations(o.iterations))))))))))),
              CGAL::parameters::default_values());
 }
 
@@ -141,8 +141,9 @@ inline int run_layout(const Options& user) {
   Inputs in = read_inputs(o);
   normalize_units(o, in.source.mesh, in.target.mesh);
   Surface_mesh &s = in.source.mesh, &t = in.target.mesh;
-  Patch_layout L = compute_patch_layouts(s, t, in.features, crossparam::parameters::apply_path_flips(o.flips),
-                                         CGAL::parameters::default_values());
+  Patch_layout L = compute_patch_layouts(
+      s, t, in.features, crossparam::parameters::apply_path_flips(o.flips, crossparam::parameters::straighten_paths(o.straighten)),
+      CGAL::parameters::default_values());
   write_layout(o, s, t, L, {{"read", in.seconds}});
   out.commit();
   print_layout_summary(o, L);

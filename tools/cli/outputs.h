@@ -171,12 +171,14 @@ inline void write_layout(const Options& o, const Surface_mesh& s, const Surface_
     j.key("face_traced").begin_object().member("source", S.face_traced_source).member("target", S.face_traced_target).end_object();
     j.key("splits").begin_object().member("source", S.splits_source).member("target", S.splits_target).end_object();
     j.member("flips", S.flips);
+    j.member("straightened", S.straightened);
     j.member("rejected_blocking", S.rejected_blocking);
     j.member("verified", true);
     j.key("seconds").begin_object();
     for (const auto& [k, v] : extra_times) j.member(k, v);
     j.member("edge_paths", S.seconds_edge_paths).member("face_paths", S.seconds_face_paths);
-    j.member("flips", S.seconds_flips).member("layout_total", S.seconds_total);
+    j.member("flips", S.seconds_flips).member("straightening", S.seconds_straightening);
+    j.member("layout_total", S.seconds_total);
     j.end_object();
   });
 }
@@ -307,7 +309,7 @@ inline void write_map(const Options& o, const Map& cp, double read_s) {
     j.key("layout").begin_object().member("edge_paths", L.edge_paths).member("face_paths", L.face_paths);
     j.key("splits").begin_object().member("source", L.splits_source).member("target", L.splits_target).end_object();
     j.key("adjacency_splits").begin_object().member("source", L.adjacency_splits_source).member("target", L.adjacency_splits_target).end_object();
-    j.member("flips", L.flips).end_object();
+    j.member("flips", L.flips).member("straightened", L.straightened).end_object();
     write_protrusion_pairs(j, cp);
     j.key("stretch_reweighted").begin_object().member("source", S.stretch_reweighted_source).member("target", S.stretch_reweighted_target).end_object();
     j.key("squeeze").begin_object().member("source", S.squeeze_source).member("target", S.squeeze_target).end_object();
