@@ -54,8 +54,8 @@ public:
   /// time of a hopeless search (too few features) small.
   std::size_t max_handle_corner_pairs = 12;
   std::size_t max_handle_cycles = 6;
-  /// Passes of straighten_paths(): on the bench one to four change paths (a pass changes nothing once the
-  /// paths are locally shortest); the bound only makes the time certain.
+  /// Passes of straighten_paths() at most. Each kept change shortens the total length, so the passes stop by
+  /// themselves once no path can be shortened; the bound only makes the time certain.
   unsigned max_straightening_passes = 8;
 
   std::size_t nf() const { return degree.size(); }
