@@ -812,6 +812,12 @@ public:
   // §3.3 path flips: replace path (a,b) by (c,d) when deg(a)+deg(b) > deg(c)+deg(d)+2.
   // Each flip lowers the sum of squared degrees, so the loop terminates.
   // ---------------------------------------------------------------------------------------------------
+  /// The darts of path p's two triangles that leave the corners opposite p: c -> a in the triangle on p's left
+  /// (a -> b -> c) and d -> b in the one on its right (b -> a -> d), a and b p's ends.
+  std::pair<Dart, Dart> opposite_darts(const Combinatorics& c, int p) const {
+    return {next_dart(c, next_dart(c, Dart{p, path_ends[p][0]})), next_dart(c, next_dart(c, Dart{p, path_ends[p][1]}))};
+  }
+
   void flip_paths() {
     bool changed = true;
     std::size_t guard = 0;
@@ -821,11 +827,7 @@ public:
         if (path_ends[p][0] < 0) continue;
         Combinatorics c = combinatorics_rotations_only();
         int a = path_ends[p][0], b = path_ends[p][1];
-        Dart dab{p, a}, dba{p, b};
-        Dart d1 = next_dart(c, dab);  // b -> c
-        Dart d2 = next_dart(c, d1);   // c -> a
-        Dart e1 = next_dart(c, dba);  // a -> d
-        Dart e2 = next_dart(c, e1);   // d -> b
+        const auto [d2, e2] = opposite_darts(c, p);
         int cc = d2.from, dd = e2.from;
         if (cc == dd || connected(cc, dd) != no_path) continue;
         if (degree[a] + degree[b] <= degree[cc] + degree[dd] + 2) continue;
@@ -866,7 +868,8 @@ public:
         if (path_ends[p][0] < 0) continue;
         const Combinatorics c = combinatorics_rotations_only();
         const int a = path_ends[p][0], b = path_ends[p][1];
-        const int x = next_dart(c, next_dart(c, Dart{p, a})).from, y = next_dart(c, next_dart(c, Dart{p, b})).from;
+        const auto [dx, dy] = opposite_darts(c, p);
+        const int x = dx.from, y = dy.from;
         if (x == y || x == a || x == b || y == a || y == b) continue;
         const Halfedge_path old_s = side[0].paths[p], old_t = side[1].paths[p];
         const double before = side[0].path_length(old_s) + side[1].path_length(old_t);
