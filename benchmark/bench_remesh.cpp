@@ -33,9 +33,10 @@ struct Remesh_case {
   Feature_correspondence features;
 };
 
-/// One row per tolerance for case `c`: the map, the remeshing, the independent verification.
-bool straighten = false; // --straighten-paths
+/// Whether the maps' layouts have their paths straightened (--straighten-paths).
+bool straighten = false;
 
+/// One row per tolerance for case `c`: the map, the remeshing, the independent verification.
 void run(const Remesh_case& c, double tol) {
   Surface_mesh s = c.source, t = c.target;
   const std::size_t ns = s.number_of_vertices(), nt = t.number_of_vertices();
