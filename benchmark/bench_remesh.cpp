@@ -7,6 +7,8 @@
 //        are not ../shared/bench's (shrec, hand and tosca pairs), e.g. CASE_FILTER "tosca/" or "_k12".
 // TOLERANCES: one or several percentages separated by commas, e.g. 1,0.5,0.2,0.1 (default 0.5).
 // --straighten-paths (anywhere): the maps' layouts with their paths straightened (parameters::straighten_paths).
+// --construction=refinement|overlay (anywhere): the remesher's construction (parameters::remeshing_construction;
+// default automatic). The column "built" says which one made each row's output.
 #include <crossparam/compatible_remeshing.h>
 #include <crossparam/io.h>
 #include <crossparam/remeshing_verification.h>
@@ -35,6 +37,8 @@ struct Remesh_case {
 
 /// Whether the maps' layouts have their paths straightened (--straighten-paths).
 bool straighten = false;
+/// The remesher's construction (--construction=...).
+Remeshing_construction construction = Remeshing_construction::automatic;
 
 /// One row per tolerance for case `c`: the map, the remeshing, the independent verification.
 void run(const Remesh_case& c, double tol) {
@@ -52,18 +56,20 @@ void run(const Remesh_case& c, double tol) {
   Cross_parameterization<Surface_mesh, Surface_mesh>& cp = *map;
   std::function<void(const std::string&)> say;
   if (std::getenv("CROSSPARAM_VERBOSE")) say = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
-  Compatible_remesher<Surface_mesh, Surface_mesh> r(cp, crossparam::parameters::tolerance(tol, crossparam::parameters::progress(say)));
+  namespace p = crossparam::parameters;
+  Compatible_remesher<Surface_mesh, Surface_mesh> r(cp, p::tolerance(tol, p::progress(say, p::remeshing_construction(construction))));
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   const auto& S = r.statistics();
   Surface_mesh os, ot;
   r.copy_to(Mesh_side::source, os);
   r.copy_to(Mesh_side::target, ot);
   const Remeshing_verification v = verify_compatible_remeshing(c.source, c.target, os, ot, tol);
-  std::printf("| %s | %.3g | %zu/%zu | %zu | %+.1f%% | %.3f | %.3f | %zu (%zu) | %zu / %.2f | %zu / %zu | %zu / %zu (%zu) | %s | %.2f | %.2f | %.2f |\n",
+  std::printf("| %s | %.3g | %zu/%zu | %zu | %+.1f%% | %.3f | %.3f | %zu (%zu) | %zu / %.2f | %zu / %zu | %zu / %zu (%zu) | %s | %s | %.2f | %.2f | %.2f |\n",
               c.name.c_str(), tol, ns, nt, S.output_vertices, 100.0 * (double(S.output_vertices) - double(ns)) / double(ns),
               S.l2_error, v.hausdorff_target, v.flipped_faces, v.flipped_at_target_folds, v.faces_above_30, v.normal_deviation_above_30,
               v.creases_output, v.creases_target, v.self_intersections_output, v.self_intersections_target,
-              v.new_self_intersections, v.valid ? "yes" : "**no**", S.seconds_cross_parameterization, S.seconds_total, total);
+              v.new_self_intersections, v.valid ? "yes" : "**no**", S.overlay_used ? "overlay" : "refinement",
+              S.seconds_cross_parameterization, S.seconds_total, total);
   std::fflush(stdout);
   if (!v.valid && std::getenv("CROSSPARAM_VERBOSE")) std::fprintf(stderr, "%s: %s\n", c.name.c_str(), v.message.c_str());
 }
@@ -81,6 +87,10 @@ int main(int argc_given, char** argv_given) {
   for (int i = 0; i < argc_given; ++i)
     if (std::string(argv_given[i]) == "--straighten-paths")
       straighten = true;
+    else if (std::string(argv_given[i]) == "--construction=refinement")
+      construction = Remeshing_construction::refinement;
+    else if (std::string(argv_given[i]) == "--construction=overlay")
+      construction = Remeshing_construction::overlay;
     else
       args.push_back(argv_given[i]);
   const int argc = int(args.size());
@@ -89,10 +99,12 @@ int main(int argc_given, char** argv_given) {
   fs::path dir = argc > 1 && !wide ? fs::path(argv[1]) : fs::path(CROSSPARAM_SHARED_DIR) / "bench";
   const std::vector<double> tolerances = parse_tolerances(argc > 2 ? argv[2] : "0.5");
   const std::string filter = argc > 3 ? argv[3] : "";
-  std::printf("compatible remeshing, tolerance in %% of the target's bbox diagonal, one run per case, assertions %s%s\n\n",
-              bench::assertions(), straighten ? "; layout paths straightened" : "");
-  std::printf("| case | tol. %% | input sizes (#v) | output size | added | L2 error (%%) | Hausdorff (%%) | flipped (at target folds) | >30°: faces / area %% | creases out / in | self-int. out / in (new) | valid | map (s) | remesh (s) | total (s) |\n");
-  std::printf("|---|---:|---|---:|---:|---:|---:|---:|---|---|---|---|---:|---:|---:|\n");
+  std::printf("compatible remeshing, tolerance in %% of the target's bbox diagonal, one run per case, assertions %s%s%s\n\n",
+              bench::assertions(), straighten ? "; layout paths straightened" : "",
+              construction == Remeshing_construction::refinement ? "; refinement only"
+              : construction == Remeshing_construction::overlay ? "; decimated overlay only" : "");
+  std::printf("| case | tol. %% | input sizes (#v) | output size | added | L2 error (%%) | Hausdorff (%%) | flipped (at target folds) | >30°: faces / area %% | creases out / in | self-int. out / in (new) | valid | built | map (s) | remesh (s) | total (s) |\n");
+  std::printf("|---|---:|---|---:|---:|---:|---:|---:|---|---|---|---|---|---:|---:|---:|\n");
   if (wide) {
     for (const std::string& name : wide_bench::names()) {
       if (wide_bench::family(name) == "bench" || name.find(filter) == std::string::npos) continue;

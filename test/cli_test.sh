@@ -209,10 +209,14 @@ if [ -s "$work/demo/source.off" ]; then
   expect_code time-limit 3 "time limit of 0.5 s reached during" -- remesh "$d/source.off" "$d/target.off" --features "$d/features.txt" -o "$work/limited" --time-limit 0.5 --quiet
   [ -z "$(ls -A "$work/limited" 2>/dev/null)" ] || bad "time limit: files written: $(ls -A "$work/limited")"
   [ "$(wc -l <"$work/stderr")" -eq 1 ] || bad "time limit: more than one line: $(cat "$work/stderr")"
-  # A tolerance that the remesher cannot meet before its vertex cap: the result is written, exit code 4.
-  expect_code failed-verification 4 "failed its independent verification" -- remesh "$d/source.off" "$d/target.off" --features "$d/features.txt" -o "$work/strict" --tolerance 0.001 --quiet
+  # A tolerance that the refinement cannot meet before its vertex cap: the result is written, exit code 4.
+  expect_code failed-verification 4 "failed its independent verification" -- remesh "$d/source.off" "$d/target.off" --features "$d/features.txt" -o "$work/strict" --tolerance 0.001 --construction refinement --quiet
   [ -s "$work/strict/report.json" ] && grep -q '"valid": false' "$work/strict/report.json" || bad "failed verification: no report of it"
-  expect_code failed-verification-best-effort 0 "best-effort" -- remesh "$d/source.off" "$d/target.off" --features "$d/features.txt" -o "$work/strict2" --tolerance 0.001 --best-effort --quiet
+  expect_code failed-verification-best-effort 0 "best-effort" -- remesh "$d/source.off" "$d/target.off" --features "$d/features.txt" -o "$work/strict2" --tolerance 0.001 --construction refinement --best-effort --quiet
+  # The decimated overlay, asked for: valid, and reported as used.
+  expect_code overlay 0 "" -- remesh "$d/source.off" "$d/target.off" --features "$d/features.txt" -o "$work/overlay" --construction overlay --quiet
+  grep -q '"used": true' "$work/overlay/report.json" || bad "overlay: not used"
+  expect_code construction-usage 2 "construction" -- remesh "$d/source.off" "$d/target.off" --features "$d/features.txt" -o "$work/out" --construction best
   # Extremity features: the option is accepted and the pairs added are reported (none here: the demo's
   # features already sit on every extremity).
   expect_code extremity-features 0 "" -- map "$d/source.off" "$d/target.off" --features "$d/features.txt" -o "$work/extremity" --extremity-features --quiet

@@ -80,10 +80,12 @@ Outcome outcome_of(const Remesher& r, const Surface_mesh& s0, const Surface_mesh
   return o;
 }
 
-Outcome remesh_and_verify(Surface_mesh s, Surface_mesh t, const Feature_correspondence& f, double tolerance) {
+Outcome remesh_and_verify(Surface_mesh s, Surface_mesh t, const Feature_correspondence& f, double tolerance,
+                          Remeshing_construction construction = Remeshing_construction::automatic) {
   const Surface_mesh s0 = s, t0 = t;
   Map cp(s, t, f);
-  return outcome_of(Remesher(cp, crossparam::parameters::tolerance(tolerance)), s0, t0, tolerance);
+  namespace p = crossparam::parameters;
+  return outcome_of(Remesher(cp, p::tolerance(tolerance, p::remeshing_construction(construction))), s0, t0, tolerance);
 }
 
 } // namespace
@@ -387,27 +389,29 @@ TEST_P(BenchRemesh, CompatibleAndClose) {
   EXPECT_LE(o.check.flipped_faces, o.standard_flips + 5) << o.check.message;
   EXPECT_LE(o.standard_flips, o.check.flipped_faces + 5) << o.check.message;
   EXPECT_LT(o.check.normal_deviation_above_30, 3.0);
-  // The strict checks, pinned per case at what the remesher reaches (doc/results.md): valid where it is, and
-  // elsewhere no more flipped faces (standard rule: in all, and away from the target's own folds) and new
-  // self-intersecting pairs than measured, so that a change that trades one case for another fails.
-  // Measured: horse0_horse7 92 flipped, 27 away from the target's folds, 47 new pairs; lion_cat 17, 5, 11;
-  // shrec_383_385 2, 2, 0; the other three valid.
-  struct Bound {
-    std::size_t flipped, new_flipped, new_pairs;
-  };
-  const std::map<std::string, Bound> strict{{"horse0_horse7", {97, 30, 52}},
-                                            {"lion_cat", {18, 6, 12}},
-                                            {"shrec_383_385", {3, 3, 1}}};
+  // The strict checks (doc/results.md). Where the refinement's result fails them (horse0_horse7, lion_cat,
+  // shrec_383_385: faces flipped by the standard rule or in new self-intersecting pairs), the decimated
+  // overlay is built; horse0_horse7's and shrec_383_385's are valid and returned. lion_cat's overlay has 108
+  // times the source's vertices (overlay_max_growth), so the refinement's result stays, pinned at what it
+  // reaches: 17 flipped faces, 5 away from the target's folds, 11 new self-intersecting pairs.
   RecordProperty("flipped_faces", int(o.check.flipped_faces));
   RecordProperty("flipped_at_target_folds", int(o.check.flipped_at_target_folds));
   RecordProperty("new_self_intersections", int(o.check.new_self_intersections));
-  if (const auto it = strict.find(GetParam()); it != strict.end()) {
-    EXPECT_LE(o.check.flipped_faces, it->second.flipped);
-    EXPECT_LE(o.check.new_flipped_faces(), it->second.new_flipped);
-    EXPECT_LE(o.check.new_self_intersections, it->second.new_pairs);
+  const std::set<std::string> overlaid{"horse0_horse7", "shrec_383_385"};
+  EXPECT_EQ(o.stats.overlay_used, overlaid.count(GetParam()) == 1);
+  if (GetParam() == "lion_cat") {
+    EXPECT_GT(o.stats.overlay_vertices, 32 * o.stats.layout_vertices);
+    EXPECT_LE(o.check.flipped_faces, 18u);
+    EXPECT_LE(o.check.new_flipped_faces(), 6u);
+    EXPECT_LE(o.check.new_self_intersections, 12u);
   } else {
     EXPECT_TRUE(o.check.valid) << o.check.message;
+    EXPECT_EQ(o.check.new_flipped_faces(), 0u);
+    EXPECT_EQ(o.check.new_self_intersections, 0u);
   }
+  // The decimation keeps each face within 30° of the target's normal at its centroid (a few faces differ
+  // where the nearest point is on a target edge and the two sides' normals differ).
+  if (o.stats.overlay_used) EXPECT_LT(o.check.normal_deviation_above_30, 0.1);
   // The folds left after §5.4: on yang_cat_horse the untangling on the target removes 34 (moves along the
   // target below 4.5 % of the diagonal) and the fold repair keeps 195 splits; on shrec_381_382 the untangling
   // removes 3, and the fold repair the rest with 9 splits.
@@ -422,19 +426,22 @@ TEST_P(BenchRemesh, CompatibleAndClose) {
     EXPECT_EQ(o.stats.fold_repair_splits, 9u);
     EXPECT_LT(o.stats.untangle_max_move, 7.0);
   }
-  EXPECT_LT(double(o.stats.output_vertices), 1.5 * double(o.stats.source_vertices));
+  // Added vertices: 13-46 % by the refinement; the decimated overlay keeps more (horse0_horse7 +76 %,
+  // shrec_383_385 +36 %).
+  EXPECT_LT(double(o.stats.output_vertices), (o.stats.overlay_used ? 2.0 : 1.5) * double(o.stats.source_vertices));
 }
 
 // At the paper's error (Table 2: L2 0.12-0.14 %; ε = 1 % gives 0.118 % here), the bench cases are within the
 // tolerance and need about as many added vertices on average as the paper's four models: 37.4, 1.8, 13.5 and
-// 1.7 %, mean 13.6 % (the strict repair's vertices included; the paper's outputs were not held to it).
+// 1.7 %, mean 13.6 % (the strict repair's vertices included; the paper's outputs were not held to it). The
+// paper's construction only (Remeshing_construction::refinement): the figures compare with the paper's.
 TEST(BenchRemeshAtPaperError, AddedVerticesAsThePaper) {
   double added = 0, l2 = 0;
   std::size_t n = 0;
   for (const std::string& name : test_bench::names()) {
     std::optional<test_bench::Case> c = test_bench::load(name);
     if (!c) GTEST_SKIP() << test_bench::absent(name);
-    Outcome o = remesh_and_verify(c->source, c->target, c->features, 1.0);
+    Outcome o = remesh_and_verify(c->source, c->target, c->features, 1.0, Remeshing_construction::refinement);
     EXPECT_LE(o.check.hausdorff_target, 1.0) << name << ": " << o.check.message;
     EXPECT_TRUE(o.certificate) << name;
     EXPECT_LT(o.check.normal_deviation_above_30, 3.0) << name;
@@ -498,6 +505,50 @@ TEST(RemeshFamily, StrictChecksOnGeneratedPairs) {
     valid += o.check.valid;
   }
   std::cout << "[ family ] " << valid << " of " << pairs.size() << " valid\n";
+}
+
+// The decimated overlay, asked for (Remeshing_construction::overlay) on generated pairs: a creature pair with
+// thin limbs, and deformed spheres of different resolutions with random features. Its collapses are kept only
+// if they keep the strict checks, so each output is valid, every face within the normal deviation (30°) of
+// the target's at its centroid, and no edge folded back that the overlay did not have.
+TEST(RemeshOverlay, ValidByConstruction) {
+  struct Pair {
+    std::string name;
+    Surface_mesh a, b;
+    Feature_correspondence f;
+  };
+  std::vector<Pair> pairs;
+  {
+    const shapes::Creature_params pa = shapes::creature_a_params(), pb = shapes::creature_b_params();
+    Pair q{"creatures", shapes::make_creature(pa), shapes::make_creature(pb), {}};
+    q.f = shapes::creature_features(q.a, pa, q.b, pb);
+    pairs.push_back(std::move(q));
+  }
+  {
+    Pair q{"spheres 1500/700", shapes::make_deformed_sphere(41, 1500, false), shapes::make_deformed_sphere(43, 700, true), {}};
+    q.f = shapes::random_features(q.a, q.b, 9, 77, false);
+    pairs.push_back(std::move(q));
+  }
+  for (const Pair& q : pairs) {
+    const Outcome o = remesh_and_verify(q.a, q.b, q.f, 0.5, Remeshing_construction::overlay);
+    std::cout << "[ overlay ] " << q.name << ": overlay " << o.stats.overlay_vertices << " vertices, "
+              << o.stats.overlay_collapses << " collapses, " << o.stats.output_vertices << " left; "
+              << (o.check.valid ? "valid" : "NOT valid: " + o.check.message) << "\n";
+    EXPECT_TRUE(o.stats.overlay_used) << q.name;
+    EXPECT_TRUE(o.stats.overlay_complete) << q.name;
+    EXPECT_TRUE(o.certificate) << q.name;
+    EXPECT_TRUE(o.check.compatible) << q.name;
+    EXPECT_TRUE(o.source_prefix_exact) << q.name;
+    EXPECT_LE(o.check.hausdorff_source, 1e-6) << q.name;
+    EXPECT_LE(o.check.hausdorff_target, 0.5) << q.name;
+    EXPECT_EQ(o.check.flipped_faces, 0u) << q.name;
+    EXPECT_EQ(o.standard_flips, 0u) << q.name;
+    EXPECT_EQ(o.check.new_self_intersections, 0u) << q.name;
+    EXPECT_EQ(o.check.faces_above_30, 0u) << q.name;
+    EXPECT_TRUE(o.check.valid) << q.name << ": " << o.check.message;
+    EXPECT_GT(o.stats.overlay_collapses, 0u) << q.name;
+    EXPECT_LT(o.stats.output_vertices, o.stats.overlay_vertices) << q.name;
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Shared, BenchRemesh,

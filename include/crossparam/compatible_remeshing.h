@@ -24,6 +24,8 @@
 #include <crossparam/internal/parallel.h>
 #include <crossparam/internal/remeshing/fold_repair.h>
 #include <crossparam/internal/remeshing/gap_refinement.h>
+#include <crossparam/internal/remeshing/overlay.h>
+#include <crossparam/internal/remeshing/overlay_decimation.h>
 #include <crossparam/internal/remeshing/pseudo_flips.h>
 #include <crossparam/internal/remeshing/refinement.h>
 #include <crossparam/internal/remeshing/remesh_state.h>
@@ -35,6 +37,7 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -118,6 +121,13 @@ struct Remeshing_statistics {
   std::size_t strict_splits = 0;              ///< vertices the strict repair added
   unsigned strict_rounds = 0;                 ///< its refinement rounds
   bool strict_work_bound_reached = false;     ///< whether it stopped at its work bound (strict_repair.h)
+  bool overlay_used = false;                  ///< whether the result is the decimated overlay
+  std::size_t overlay_vertices = 0;           ///< vertices of the overlay before its decimation (0: not built)
+  std::size_t overlay_refused = 0;            ///< inserts and splits of the overlay refused by their exact test
+  bool overlay_complete = false;              ///< whether every target vertex and edge is in the overlay
+  std::size_t overlay_collapses = 0;          ///< vertices the decimation removed
+  bool overlay_work_bound_reached = false;    ///< whether the decimation stopped at its work bound
+  std::size_t overlay_flipped = 0, overlay_intersecting = 0; ///< the strict figures of the decimated overlay
   unsigned smoothing_rounds = 0, refinement_rounds = 0;
   double tolerance = 0;              ///< ε, percent
   double max_error_initial = 0, l2_error_initial = 0; ///< e(v) of M_st right after the projection
@@ -129,7 +139,7 @@ struct Remeshing_statistics {
                                      ///< at the point nearest the centroid), the remesher's own count
   bool converged = false;            ///< max error and max chord error <= tolerance, and no flipped face
   double seconds_cross_parameterization = 0, seconds_smoothing = 0, seconds_refinement = 0, seconds_flips = 0,
-         seconds_gaps = 0, seconds_strict_repair = 0, seconds_fold_repair = 0, seconds_untangle = 0, seconds_certificate = 0, seconds_total = 0;
+         seconds_gaps = 0, seconds_strict_repair = 0, seconds_overlay = 0, seconds_fold_repair = 0, seconds_untangle = 0, seconds_certificate = 0, seconds_total = 0;
 };
 
 /// \brief Compatible remeshing (paper §5) of the two meshes of a cross-parameterization.
@@ -185,6 +195,8 @@ public:
     const double max_dev = choose_parameter(get_parameter(np, internal_np::normal_deviation_t()), 30.0);
     const unsigned max_rounds = choose_parameter(get_parameter(np, internal_np::max_rounds_t()), 30u);
     const bool undo = choose_parameter(get_parameter(np, internal_np::undo_layout_splits_t()), true);
+    const Remeshing_construction construction = choose_parameter(
+        get_parameter(np, internal_np::remeshing_construction_t()), Remeshing_construction::automatic);
     progress_ = choose_parameter(get_parameter(np, internal_np::progress_t()), std::function<void(const std::string&)>());
     const unsigned threads = internal::thread_count(choose_parameter(get_parameter(np, internal_np::number_of_threads_t()), 0u));
     auto weights = choose_parameter(get_parameter(np, internal_np::remeshing_weights_t()), Error_driven_weights());
@@ -194,16 +206,31 @@ public:
     internal::Remesh_state s(internal::map_view(cp), stats_.tolerance / 100.0, threads);
     s.budget = internal::Time_budget::from(np);
     project(s, undo);                                // M_st, the source's connectivity on the target (§5.1)
-    smooth_and_refine(s, weights, rule, max_rounds); // §5.2-5.3
     // Out of time, each step left throws Time_limit_error, or with best effort is skipped.
     auto skip = [&s](const char* stage) { return s.budget.stop(stage, [] { return std::string("not started"); }); };
-    if (max_dev < 180 && !skip("the remeshing's pseudo flips")) pseudo_flip(s, max_dev); // §5.4
-    if (!skip("the remeshing's untangling")) untangle(s); // folds left (additions to the paper)
-    if (!skip("the remeshing's surface-distance step")) close_gaps(s); // the distance the verifier measures
-    if (!skip("the remeshing's strict repair")) strict_repair(s);        // the verifier's flip and intersection tests
+    if (construction != Remeshing_construction::overlay) {
+      smooth_and_refine(s, weights, rule, max_rounds); // §5.2-5.3
+      if (max_dev < 180 && !skip("the remeshing's pseudo flips")) pseudo_flip(s, max_dev); // §5.4
+      if (!skip("the remeshing's untangling")) untangle(s); // folds left (additions to the paper)
+      if (!skip("the remeshing's surface-distance step")) close_gaps(s); // the distance the verifier measures
+      if (!skip("the remeshing's strict repair")) strict_repair(s);        // the verifier's flip and intersection tests
+    }
+    // The decimated overlay, instead of the refinement or where the refinement's result fails the checks.
+    State* result = &s;
+    std::optional<State> o;
+    // Strictly valid as far as the remesher can tell: no face flipped or in a new self-intersecting pair, and no
+    // sample of either surface left beyond 0.9 ε of the other (gap_refinement.h).
+    const bool strict_ok = stats_.strict_flipped_after + stats_.strict_intersecting_after == 0 && stats_.gap_samples_left == 0;
+    if (construction == Remeshing_construction::overlay ||
+        (construction == Remeshing_construction::automatic && !strict_ok && !skip("the remeshing's overlay"))) {
+      o.emplace(internal::map_view(cp), stats_.tolerance / 100.0, threads);
+      o->budget = s.budget;
+      if (overlay(*o, max_dev, construction == Remeshing_construction::overlay) || construction == Remeshing_construction::overlay)
+        result = &*o, stats_.overlay_used = true;
+    }
     if (s.budget.expired()) say("remesh: time limit reached (best effort): the steps left are skipped");
-    certify(s);                                      // the parameterization is still one-to-one
-    finish(s, cp.statistics().seconds_total, t0);
+    certify(*result);                                // the parameterization is still one-to-one
+    finish(*result, cp.statistics().seconds_total, t0);
   }
 
   /// The common face list (indices into both point lists), oriented as the input source.
@@ -369,6 +396,56 @@ private:
         std::to_string(r.intersecting_before) + " intersecting faces before, " + std::to_string(r.flipped_after) +
         " and " + std::to_string(r.intersecting_after) + " after; " + std::to_string(r.flips) + " edge flips, " + std::to_string(r.splits) + " vertices added in " +
         std::to_string(r.rounds) + " rounds" + (r.work_bound_reached ? " (stopped at its work bound)" : ""));
+  }
+
+  /// The overlay construction (an addition to the paper): the map's overlay with the target on a fresh copy of
+  /// the source (internal/remeshing/overlay.h), decimated within the tolerance by collapses that keep the strict
+  /// checks (internal/remeshing/overlay_decimation.h), then the strict repair for what the overlay could not
+  /// make exact. Returns whether the result fails fewer of the strict checks than the refinement's (faces
+  /// flipped by the standard rule and in new self-intersecting pairs; as many, but the refinement's left
+  /// samples beyond 0.9 ε: the overlay's samples are within 0.8 ε). Unless `asked`, an overlay with more than
+  /// overlay_max_growth times the source's vertices is not decimated, and the refinement's result is kept.
+  bool overlay(State& o, double max_dev, bool asked) {
+    const auto ts = clock::now();
+    o.measure();
+    const internal::Overlay_result made = internal::Target_overlay(o).run(std::size_t(-1));
+    stats_.overlay_vertices = o.mesh.m.number_of_vertices();
+    stats_.overlay_refused = made.refused;
+    stats_.overlay_complete = made.complete;
+    say("remesh: overlay: " + std::to_string(made.made.size()) + " vertices added (" + std::to_string(made.refused) +
+        " refused)" + (made.complete ? "" : ", incomplete") + " in " + fmt(sec(ts, clock::now())) + " s");
+    std::vector<char> target_vertex(o.mesh.m.number_of_vertices(), 0);
+    for (internal::WV v : made.target_vertices)
+      if (v != internal::WV()) target_vertex[v] = 1;
+    if (!asked && o.mesh.m.number_of_vertices() > internal::overlay_max_growth * stats_.layout_vertices) {
+      say("remesh: the overlay has more than " + std::to_string(internal::overlay_max_growth) +
+          " times the source's vertices; not decimated (--construction overlay would)");
+      return false;
+    }
+    const internal::Decimation_result d =
+        internal::Overlay_decimator(o, max_dev, o.mesh.n_original_vertices, std::move(target_vertex)).run();
+    internal::compact(o);
+    o.folded.assign(o.mesh.m.number_of_faces(), 0);
+    o.measure();
+    // What the overlay could not make exact (a split refused by its exact test leaves a face across a target
+    // edge) gets the strict repair, as the refinement's result does.
+    const internal::Strict_repair_result rep = internal::strict_repair(o, 2 * o.mesh.m.number_of_vertices());
+    const std::size_t flipped = rep.flipped_after, intersecting = rep.intersecting_after;
+    stats_.overlay_collapses = d.collapses;
+    stats_.overlay_work_bound_reached = d.work_bound_reached;
+    stats_.overlay_flipped = flipped, stats_.overlay_intersecting = intersecting;
+    stats_.seconds_overlay = sec(ts, clock::now());
+    say("remesh: overlay decimated to " + std::to_string(o.mesh.m.number_of_vertices()) + " vertices (" +
+        std::to_string(d.collapses) + " collapses of " + std::to_string(d.tried) + " tried; refused: " +
+        std::to_string(d.refused_valence) + " valence, " + std::to_string(d.refused_link) + " link, " + std::to_string(d.refused_source) + " source, " +
+        std::to_string(d.refused_needle) + " needle, " + std::to_string(d.refused_distance) + " distance, " +
+        std::to_string(d.refused_normal) + " normal, " + std::to_string(d.refused_crease) + " crease, " + std::to_string(d.refused_witness) + " distance from the target, " +
+        std::to_string(d.refused_intersection) + " intersection; " + std::to_string(d.face_pairs) + " face pairs tested of " + std::to_string(d.grid_entries) + " grid entries" + (d.work_bound_reached ? ", stopped at its work bound" : "") + "); then " + std::to_string(rep.flipped_before) + " flipped and " +
+        std::to_string(rep.intersecting_before) + " intersecting faces, " + std::to_string(flipped) + " and " +
+        std::to_string(intersecting) + " after the strict repair (" + std::to_string(rep.splits) + " vertices added); " +
+        fmt(stats_.seconds_overlay) + " s in all");
+    const std::size_t bad = flipped + intersecting, bad_refined = stats_.strict_flipped_after + stats_.strict_intersecting_after;
+    return bad < bad_refined || (bad == bad_refined && stats_.gap_samples_left > 0);
   }
 
   /// Folds left (additions to the paper): untangled on the target, off F, which adds no vertex; where that

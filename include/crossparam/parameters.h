@@ -10,6 +10,15 @@
 #include <CGAL/boost/graph/named_params_helper.h>
 
 namespace crossparam {
+
+/// How Compatible_remesher builds the target-shaped mesh (named parameter `remeshing_construction`).
+enum class Remeshing_construction {
+  automatic,  ///< the refinement; where its result fails the strict checks, the decimated overlay when that
+              ///< fails fewer of them (none, on every case measured)
+  refinement, ///< the paper's (§5): the source refined until its image F(M_s) is within the tolerance
+  overlay     ///< the map's overlay with the target, decimated within the tolerance
+};
+
 namespace internal_np {
 struct edge_path_map_t {};      ///< edge -> int: id of the layout path on the edge, or -1
 struct vertex_feature_map_t {}; ///< vertex -> int: feature index of the vertex, or -1
@@ -36,6 +45,7 @@ struct number_of_threads_t {};  ///< unsigned (default 0: one per hardware threa
 // Every computation
 struct time_limit_t {};         ///< double, seconds (default: none)
 struct best_effort_t {};        ///< bool (default false)
+struct remeshing_construction_t {}; ///< Remeshing_construction (default automatic)
 // N-way remeshing (multi_remeshing.h)
 struct source_mesh_t {};        ///< std::size_t: index of the source mesh (default 0; finest_mesh: the largest)
 } // namespace internal_np
@@ -127,6 +137,11 @@ CROSSPARAM_ADD_NAMED_PARAMETER(time_limit)
 /// the end of the computation, skipping the remaining improving steps. A step that must finish (the layout,
 /// the initial parameterization, the certificates) still throws Time_limit_error.
 CROSSPARAM_ADD_NAMED_PARAMETER(best_effort)
+/// \brief `Remeshing_construction`, default `Remeshing_construction::automatic`: how the compatible remesher
+/// builds the target-shaped mesh: by the paper's refinement, by the decimated overlay of the map, or by the
+/// refinement with the decimated overlay where the refinement's result fails the strict checks (see
+/// Compatible_remesher).
+CROSSPARAM_ADD_NAMED_PARAMETER(remeshing_construction)
 /// \brief `std::size_t`, default 0: which of the N meshes of an N-way remeshing is the source (its index);
 /// `crossparam::finest_mesh` picks the one with the most vertices.
 CROSSPARAM_ADD_NAMED_PARAMETER(source_mesh)

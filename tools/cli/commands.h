@@ -129,7 +129,7 @@ inline Map cross_parameterize(const Options& o, Surface_mesh& s, Surface_mesh& t
 inline Remesher remesh(const Options& o, const Map& cp) {
   namespace p = crossparam::parameters;
   return Remesher(cp, p::tolerance(o.tolerance, p::progress(progress_printer(o), p::number_of_threads(o.threads,
-                      p::time_limit(remaining_seconds(o), p::best_effort(o.best_effort))))));
+                      p::time_limit(remaining_seconds(o), p::best_effort(o.best_effort, p::remeshing_construction(o.construction)))))));
 }
 
 // ---- the commands; each returns the exit code ----

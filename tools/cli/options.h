@@ -6,6 +6,8 @@
 
 #include "render.h"
 
+#include <crossparam/parameters.h>
+
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -68,6 +70,10 @@ inline const char* const usage_text =
     "                    map, remesh, demo: do not look for such pairs\n"
     "  --tolerance PCT   remesh: approximation tolerance in percent of the target's bounding-box diagonal\n"
     "                    (default 0.5)\n"
+    "  --construction C  remesh, demo: how the target-shaped mesh is built: refinement (the paper's), overlay\n"
+    "                    (the map's overlay with the target, decimated within the tolerance) or automatic (the\n"
+    "                    refinement, and the overlay where the refinement's result fails the strict checks;\n"
+    "                    the default)\n"
     "  --threads N       map, remesh, demo: threads for the smoothing of the two meshes and the error\n"
     "                    measurements (default 0: one per hardware thread); the results are the same for any N\n"
     "  --frames N        morph: number of meshes written, both ends included (default 9)\n"
@@ -121,6 +127,7 @@ struct Options {
   double time_limit = HUGE_VAL; ///< seconds; none by default
   std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now(); ///< when the run started
   bool best_effort = false;
+  Remeshing_construction construction = Remeshing_construction::automatic;
   Render_options render;
   // N-way remeshing, blends and transfers (cli/multi.h)
   std::size_t source_mesh = 0; ///< --source-mesh; crossparam::finest_mesh for "finest"
@@ -200,6 +207,13 @@ inline Options parse(int argc, char** argv) {
     else if (a == "--frames") o.frames = whole_number(value(), 2, max_frames, "--frames needs a whole number from 2 to 10000");
     else if (a == "--time-limit") o.time_limit = time_limit_seconds(value());
     else if (a == "--best-effort") o.best_effort = true;
+    else if (a == "--construction") {
+      const std::string v = value();
+      if (v == "automatic") o.construction = Remeshing_construction::automatic;
+      else if (v == "refinement") o.construction = Remeshing_construction::refinement;
+      else if (v == "overlay") o.construction = Remeshing_construction::overlay;
+      else throw Usage_error("--construction needs automatic, refinement or overlay");
+    }
     else if (a == "--weights") o.weights = value();
     else if (a == "--weight-file") o.weight_file = value();
     else if (a == "--region") o.region = value();

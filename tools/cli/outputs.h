@@ -417,6 +417,10 @@ inline Remeshing_verification write_remesh(const Options& o, const Map& cp, cons
     j.member("intersecting_after", S.strict_intersecting_after).member("edge_flips", S.strict_flips);
     j.member("vertices_added", S.strict_splits);
     j.member("passes", S.strict_rounds).member("work_bound_reached", S.strict_work_bound_reached).end_object();
+    j.key("overlay").begin_object().member("used", S.overlay_used).member("vertices", S.overlay_vertices);
+    j.member("refused", S.overlay_refused).member("complete", S.overlay_complete).member("collapses", S.overlay_collapses);
+    j.member("work_bound_reached", S.overlay_work_bound_reached);
+    j.member("flipped", S.overlay_flipped).member("intersecting", S.overlay_intersecting).end_object();
     j.key("surface_gaps").begin_object().member("sampled_max_before_percent", S.gap_before).member("vertices_added", S.gap_vertices);
     j.member("rounds", S.gap_rounds).member("samples_left", S.gap_samples_left).end_object();
     j.member("tolerance_percent", S.tolerance);
@@ -443,7 +447,7 @@ inline Remeshing_verification write_remesh(const Options& o, const Map& cp, cons
     j.member("smoothing", C.seconds_smoothing).member("map_total", C.seconds_total);
     j.member("adaptive_smoothing", S.seconds_smoothing).member("refinement", S.seconds_refinement);
     j.member("pseudo_flips", S.seconds_flips).member("fold_repair", S.seconds_fold_repair).member("untangle", S.seconds_untangle);
-    j.member("surface_gaps", S.seconds_gaps).member("strict_repair", S.seconds_strict_repair).member("certificate", S.seconds_certificate).member("remesh_total", S.seconds_total);
+    j.member("surface_gaps", S.seconds_gaps).member("strict_repair", S.seconds_strict_repair).member("overlay", S.seconds_overlay).member("certificate", S.seconds_certificate).member("remesh_total", S.seconds_total);
     j.end_object();
   });
   print_remesh_summary(o, S, check, added, C.seconds_total + S.seconds_total, verify_s);

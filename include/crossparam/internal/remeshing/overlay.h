@@ -1,0 +1,361 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The map's overlay as a compatible remesh (an addition to the paper). Over the base mesh, the source's faces
+// and the target's faces are two triangulations of one domain, and the map F is linear on each piece of their
+// overlay. Target_overlay makes every target vertex a vertex of M_s (Remesh_state::insert()) and splits every
+// edge of M_s that a target edge crosses at the crossing (Remesh_state::split()), so that each face of M_s lies
+// inside one target face over the base mesh. Its image M_st then lies inside that target face: on the target,
+// with the target's normal, at distance zero, meeting another face only where the target meets itself. The
+// source-shaped mesh stays an exact copy of the source (every new vertex lies in a source face) and the
+// parameterization one-to-one (the exact test of each split and insert). The overlay has many vertices; the
+// decimation (overlay_decimation.h) removes those the checks do not need.
+//
+// Crossings are computed with exact predicates in the base mesh's frame that holds both edges
+// (Base_mesh::canonical_frame()), or in the base triangle two frames share; a target vertex or edge within
+// `conform_snap` of a vertex or edge of M_s is taken to pass through it.
+#ifndef CROSSPARAM_INTERNAL_REMESHING_OVERLAY_H
+#define CROSSPARAM_INTERNAL_REMESHING_OVERLAY_H
+
+#include <crossparam/internal/remeshing/remesh_state.h>
+
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace crossparam {
+namespace internal {
+
+/// Relative distance (in barycentric coordinates of a face of M_s, or in the parameter along its edge) below
+/// which a target vertex or a crossing with a target edge is taken to be at the vertex or on the edge of M_s
+/// that it nearly touches. A face whose corner is that far across a target edge bends over it by at most this
+/// fraction of its own size: a millionth, far below any angle the checks measure, while a split there would make
+/// a face a million times thinner than its neighbours, whose normal rounding decides.
+constexpr double conform_snap = 1e-6;
+
+/// Distance in the base mesh's frames (whose triangles have edges of length about 1) below which a point is
+/// on a line whatever the length of the edge it ends: a hundred times the rounding of coordinates near 1, so
+/// that two points computed on one target edge in different frames are on it together.
+constexpr double conform_floor = 1e-14;
+
+/// Bound of the walk that finds the face of M_s holding a target vertex (faces visited): the walk starts in
+/// the face the point locator gives, which holds the vertex up to rounding, so it ends within a few rings.
+constexpr std::size_t overlay_walk_faces = 4096;
+
+/// Largest ratio of the overlay's vertices to the source's for which the automatic construction decimates it
+/// (Remeshing_construction::automatic; asked for, the overlay is always decimated). The overlay has the
+/// source's and the target's vertices plus one per crossing of their edges: 10-20 times the source's on the
+/// bench and the generated pairs, but 108 times on lion_cat, where the map squeezes the lion's coarse faces
+/// across many of the cat's, and there the decimation takes 9 minutes (the intersection tests among thousands
+/// of small faces packed together) instead of under one.
+constexpr std::size_t overlay_max_growth = 32;
+
+/// What Target_overlay::run() did.
+struct Overlay_result {
+  std::vector<WV> made;     ///< vertices it added
+  std::size_t refused = 0;  ///< inserts and splits refused by the exact orientation test
+  bool complete = false;    ///< whether every target vertex and edge was found and inserted
+  std::vector<WV> target_vertices; ///< per target vertex: the vertex of M_s at it (none if not found)
+};
+
+/// The overlay of M_s (in `state`) with the target.
+class Target_overlay {
+public:
+  explicit Target_overlay(Remesh_state& state) : s(state), B(*state.param.base) {}
+
+  /// Every vertex of M_s is put back at F (features are there already); then each target vertex is inserted
+  /// in the face of M_s that holds it, and each target edge is split into M_s's edges at its crossings,
+  /// adding at most `max_new` vertices. The crossings of a target edge are found from the vertices its ends
+  /// became: a walk over the faces that meet the edge, from those around its ends, and one ring more.
+  Overlay_result run(std::size_t max_new) {
+    auto& m = s.mesh.m;
+    const auto& tm = s.target.m;
+    Overlay_result r;
+    for (WV v : m.vertices())
+      if (s.mesh.vfeature[v] == no_feature) {
+        const Corner c = s.corner_at(s.param[v]);
+        s.img[v] = c.img, s.pos[v] = c.pos;
+      }
+    const int slack = s.fold_slack;
+    s.fold_slack = std::numeric_limits<int>::max() / 4;
+    Base_locator locator;
+    locator.build(s.param);
+    std::vector<WV> rv(tm.number_of_vertices(), WV());
+    std::vector<char> seen;
+    auto faces_of = [&](WV v, std::vector<WF>& out) {
+      for (WF g : CGAL::faces_around_target(m.halfedge(v), m))
+        if (g != WF()) out.push_back(g);
+    };
+    // Target vertices, each in the piece of the face that held it when the walk began.
+    for (WV tv : tm.vertices()) {
+      if (r.made.size() >= max_new) break;
+      const WF f0 = locator.locate(s.target_param[tv]).face;
+      const int orig = s.mesh.forig[f0];
+      std::vector<WF> queue{f0}, visited{f0};
+      seen.assign(m.number_of_faces(), 0);
+      seen[f0] = 1;
+      while (!queue.empty()) {
+        const WF f = queue.back();
+        queue.pop_back();
+        std::array<double, 3> b;
+        const int where = inside(f, tv, b);
+        if (where == 2) {
+          const std::size_t n0 = m.number_of_vertices();
+          if (s.insert(f, b)) {
+            for (std::size_t i = n0; i < m.number_of_vertices(); ++i) r.made.push_back(WV(WV::size_type(i)));
+            rv[tv] = WV(WV::size_type(m.number_of_vertices() - 1));
+          } else {
+            ++r.refused;
+          }
+          break;
+        }
+        if (where == 1) {
+          const std::array<WV, 3> fv = corners(f);
+          rv[tv] = fv[std::size_t(std::max_element(b.begin(), b.end()) - b.begin())];
+          break;
+        }
+        if (visited.size() < overlay_walk_faces) {
+          std::vector<WF> next;
+          for (WV v : corners(f)) faces_of(v, next);
+          for (WF g : next)
+            if (!seen[g]) seen[g] = 1, visited.push_back(g), queue.insert(s.mesh.forig[g] == orig ? queue.end() : queue.begin(), g);
+        }
+      }
+      if (rv[tv] == WV()) {
+        // In no face exactly (a point on an edge that two frames round differently): the face where it is
+        // least outside, its barycentrics clamped.
+        WF best = WF();
+        std::array<double, 3> bb{};
+        double best_min = -HUGE_VAL;
+        for (WF f : visited) {
+          std::array<double, 3> b;
+          if (!barycentrics(f, tv, b)) continue;
+          const double mn = std::min({b[0], b[1], b[2]});
+          if (mn > best_min) best_min = mn, best = f, bb = b;
+        }
+        if (best != WF() && best_min > -conform_snap) {
+          for (double& x : bb) x = std::max(x, 0.0);
+          const double sum = bb[0] + bb[1] + bb[2];
+          for (double& x : bb) x /= sum;
+          const std::array<WV, 3> fv = corners(best);
+          int zero = -1, small = 0;
+          for (int k = 0; k < 3; ++k)
+            if (!(bb[k] > conform_snap)) zero = k, ++small;
+          const std::size_t n0 = m.number_of_vertices();
+          bool done = false;
+          if (small == 0) done = s.insert(best, bb);
+          else if (small == 1) done = s.split(fv[(zero + 1) % 3], fv[(zero + 2) % 3], bb[(zero + 2) % 3]);
+          if (done) {
+            for (std::size_t i = n0; i < m.number_of_vertices(); ++i) r.made.push_back(WV(WV::size_type(i)));
+            rv[tv] = WV(WV::size_type(m.number_of_vertices() - 1));
+          } else {
+            rv[tv] = fv[std::size_t(std::max_element(bb.begin(), bb.end()) - bb.begin())];
+          }
+        }
+      }
+    }
+    // Target edges, each split into M_s's edges at its crossings.
+    std::size_t skipped = 0;
+    for (WE te : tm.edges()) {
+      if (r.made.size() >= max_new) break;
+      const WV a = tm.vertex(te, 0), b = tm.vertex(te, 1);
+      if (rv[a] == WV() || rv[b] == WV()) {
+        ++skipped;
+        continue;
+      }
+      std::vector<WF> queue, hit;
+      faces_of(rv[a], queue);
+      faces_of(rv[b], queue);
+      seen.assign(m.number_of_faces(), 0);
+      for (WF g : queue) seen[g] = 1;
+      while (!queue.empty()) {
+        const WF g = queue.back();
+        queue.pop_back();
+        if (!meets(g, a, b)) continue;
+        hit.push_back(g);
+        std::vector<WF> next;
+        for (WV v : corners(g)) faces_of(v, next);
+        for (WF k : next)
+          if (!seen[k]) seen[k] = 1, queue.push_back(k);
+      }
+      {
+        // One ring more: a face that frames place on the other side of the edge by rounding.
+        std::vector<WF> ring;
+        for (WF g : hit)
+          for (WV v : corners(g)) faces_of(v, ring);
+        hit.insert(hit.end(), ring.begin(), ring.end());
+      }
+      std::vector<std::array<WV, 2>> es;
+      for (WF g : hit)
+        for (WH h : CGAL::halfedges_around_face(m.halfedge(g), m))
+          es.push_back({std::min(m.source(h), m.target(h)), std::max(m.source(h), m.target(h))});
+      std::sort(es.begin(), es.end());
+      es.erase(std::unique(es.begin(), es.end()), es.end());
+      std::vector<Crossing> xs;
+      for (const auto& e : es) {
+        Crossing x;
+        if (crossing(e[0], e[1], a, b, x)) xs.push_back(x);
+      }
+      for (const Crossing& x : xs) {
+        if (m.halfedge(x.u, x.v) == WH()) continue;
+        const std::size_t n0 = m.number_of_vertices();
+        if (s.split(x.u, x.v, x.t)) {
+          for (std::size_t i = n0; i < m.number_of_vertices(); ++i) r.made.push_back(WV(WV::size_type(i)));
+        } else {
+          ++r.refused;
+        }
+      }
+    }
+    s.fold_slack = slack;
+    r.target_vertices = rv;
+    r.complete = skipped == 0 && r.refused == 0 && r.made.size() < max_new;
+    return r;
+  }
+
+
+private:
+  struct Crossing {
+    WV u, v;
+    double t = 0;
+  };
+  /// Whether target edge (a, b) crosses edge (u, v) of M_s at a point u + t (v - u) with t in
+  /// (conform_snap, 1 - conform_snap), decided with exact predicates in the frame that holds the four.
+  bool crossing(WV u, WV v, WV a, WV b, Crossing& x) const {
+    const std::array<const Base_location*, 4> ls{&s.param[u], &s.param[v], &s.target_param[a], &s.target_param[b]};
+    std::array<Point_2, 4> p;
+    int c, n;
+    x.u = u, x.v = v;
+    if (B.canonical_frame(ls, c, n, p)) return crosses(p[0], p[1], p[2], p[3], x.t);
+    // No frame holds the two segments (each crosses a different edge of a base triangle they share): they
+    // can only cross inside a base triangle of both, where each one's own frame gives the same coordinates.
+    std::array<Point_2, 2> pu, pa;
+    for (int T : shared_triangles<2, 2>({ls[0], ls[1]}, {ls[2], ls[3]})) {
+      if (!in_triangle_frame<2>(T, {ls[0], ls[1]}, pu) || !in_triangle_frame<2>(T, {ls[2], ls[3]}, pa)) continue;
+      if (!crosses(pu[0], pu[1], pa[0], pa[1], x.t)) continue;
+      const Point_2 X(pu[0].x() + x.t * (pu[1].x() - pu[0].x()), pu[0].y() + x.t * (pu[1].y() - pu[0].y()));
+      const auto& q = B.q[std::size_t(T)];
+      if (CGAL::orientation(q[0], q[1], X) != CGAL::NEGATIVE && CGAL::orientation(q[1], q[2], X) != CGAL::NEGATIVE &&
+          CGAL::orientation(q[2], q[0], X) != CGAL::NEGATIVE)
+        return true;
+    }
+    return false;
+  }
+  /// The base triangles of the canonical frames of `l1` and of `l2` that both frames share.
+  template <std::size_t N1, std::size_t N2>
+  std::vector<int> shared_triangles(const std::array<const Base_location*, N1>& l1,
+                                    const std::array<const Base_location*, N2>& l2) const {
+    std::array<Point_2, N1> p1;
+    std::array<Point_2, N2> p2;
+    int c1, n1, c2, n2;
+    std::vector<int> out;
+    if (!B.canonical_frame(l1, c1, n1, p1) || !B.canonical_frame(l2, c2, n2, p2)) return out;
+    const int a[2] = {c1, n1 >= 0 ? B.nb[c1][n1] : -1}, b[2] = {c2, n2 >= 0 ? B.nb[c2][n2] : -1};
+    for (int x : a)
+      if (x >= 0 && (x == b[0] || x == b[1])) out.push_back(x);
+    return out;
+  }
+  /// The locations `ls` in base triangle T's frame, with the other triangle of their canonical frame unfolded
+  /// beside it (false if T is not one of the frame's triangles).
+  template <std::size_t N>
+  bool in_triangle_frame(int T, const std::array<const Base_location*, N>& ls, std::array<Point_2, N>& p) const {
+    int c, n;
+    if (!B.canonical_frame(ls, c, n, p)) return false;
+    int slot = -1;
+    if (c == T) slot = n;
+    else if (n >= 0 && B.nb[c][n] == T) slot = B.neighbour_index(T, c);
+    else return false;
+    for (std::size_t k = 0; k < N; ++k)
+      if (!B.frame_point(T, slot, *ls[k], p[k])) return false;
+    return true;
+  }
+  /// Whether segment (c, d) crosses segment (a, z) at a + t (z - a): c and d strictly on either side of the
+  /// line of (a, z) (exact predicates), and a and z on either side of the line of (c, d) by more than
+  /// conform_snap times |z - a| (an edge of M_s that a target edge runs along, or that ends on it, is not
+  /// crossed by it; t from those two distances is then well conditioned).
+  static bool crosses(const Point_2& a, const Point_2& z, const Point_2& c, const Point_2& d, double& t) {
+    const CGAL::Orientation oc = CGAL::orientation(a, z, c), od = CGAL::orientation(a, z, d);
+    if (oc == CGAL::ZERO || od == CGAL::ZERO || oc == od) return false;
+    const CGAL::Orientation oa = CGAL::orientation(c, d, a), oz = CGAL::orientation(c, d, z);
+    if (oa == CGAL::ZERO || oz == CGAL::ZERO || oa == oz) return false;
+    const double dx = d.x() - c.x(), dy = d.y() - c.y(), len = std::sqrt(dx * dx + dy * dy);
+    const double elen = std::sqrt(CGAL::squared_distance(a, z));
+    if (!(len > 0) || !(elen > 0)) return false;
+    // Signed distances of a and z from the line of (c, d).
+    const double da = ((a.x() - c.x()) * dy - (a.y() - c.y()) * dx) / len;
+    const double dz = ((z.x() - c.x()) * dy - (z.y() - c.y()) * dx) / len;
+    const double near = std::max(conform_snap * elen, conform_floor);
+    if (!(std::abs(da) > near) || !(std::abs(dz) > near)) return false;
+    t = da / (da - dz);
+    return t > conform_snap && t < 1 - conform_snap;
+  }
+  /// Where target vertex tv lies for face f: 0 outside it, 1 inside within conform_snap of its border (or on
+  /// it), 2 inside beyond that, with its barycentrics in f's halfedge order in `b`.
+  int inside(WF f, WV tv, std::array<double, 3>& b) const {
+    const std::array<WV, 3> fv = corners(f);
+    const std::array<const Base_location*, 4> ls{&s.param[fv[0]], &s.param[fv[1]], &s.param[fv[2]], &s.target_param[tv]};
+    std::array<Point_2, 4> p;
+    int c, n;
+    if (!B.canonical_frame(ls, c, n, p)) return 0;
+    if (CGAL::orientation(p[0], p[1], p[3]) == CGAL::NEGATIVE || CGAL::orientation(p[1], p[2], p[3]) == CGAL::NEGATIVE ||
+        CGAL::orientation(p[2], p[0], p[3]) == CGAL::NEGATIVE)
+      return 0;
+    b = barycentric_2(p[0], p[1], p[2], p[3]);
+    return std::min({b[0], b[1], b[2]}) > conform_snap ? 2 : 1;
+  }
+  /// Whether segment (a, z) meets the closed triangle (p, q, r) (false for a degenerate triangle or segment):
+  /// no line through an edge of either separates them strictly (exact orientation predicates).
+  static bool segment_meets_triangle(const Point_2& a, const Point_2& z, const Point_2& p, const Point_2& q,
+                                     const Point_2& r) {
+    const CGAL::Orientation o = CGAL::orientation(p, q, r);
+    if (o == CGAL::COLLINEAR || a == z) return false;
+    const CGAL::Orientation out = CGAL::opposite(o);
+    const std::array<const Point_2*, 3> t{&p, &q, &r};
+    for (int i = 0; i < 3; ++i) {
+      const Point_2 &u = *t[std::size_t(i)], &v = *t[std::size_t((i + 1) % 3)];
+      if (CGAL::orientation(u, v, a) == out && CGAL::orientation(u, v, z) == out) return false;
+    }
+    const CGAL::Orientation sp = CGAL::orientation(a, z, p), sq = CGAL::orientation(a, z, q), sr = CGAL::orientation(a, z, r);
+    return !(sp != CGAL::COLLINEAR && sp == sq && sq == sr);
+  }
+  /// Whether face f of M_s meets target edge (a, b) over the base mesh (exact, in a frame that holds the five
+  /// points; false if there is none).
+  bool meets(WF f, WV a, WV b) const {
+    const std::array<WV, 3> fv = corners(f);
+    const std::array<const Base_location*, 5> ls{&s.param[fv[0]], &s.param[fv[1]], &s.param[fv[2]],
+                                                 &s.target_param[a], &s.target_param[b]};
+    std::array<Point_2, 5> p;
+    int c, n;
+    if (B.canonical_frame(ls, c, n, p)) return segment_meets_triangle(p[3], p[4], p[0], p[1], p[2]);
+    std::array<Point_2, 3> pf;
+    std::array<Point_2, 2> pe;
+    for (int T : shared_triangles<3, 2>({ls[0], ls[1], ls[2]}, {ls[3], ls[4]})) {
+      if (!in_triangle_frame<3>(T, {ls[0], ls[1], ls[2]}, pf) || !in_triangle_frame<2>(T, {ls[3], ls[4]}, pe)) continue;
+      if (segment_meets_triangle(pe[0], pe[1], pf[0], pf[1], pf[2])) return true;
+    }
+    return false;
+  }
+  /// The barycentrics of target vertex tv in face f's frame (false if no frame holds the four).
+  bool barycentrics(WF f, WV tv, std::array<double, 3>& b) const {
+    const std::array<WV, 3> fv = corners(f);
+    const std::array<const Base_location*, 4> ls{&s.param[fv[0]], &s.param[fv[1]], &s.param[fv[2]], &s.target_param[tv]};
+    std::array<Point_2, 4> p;
+    int c, n;
+    if (!B.canonical_frame(ls, c, n, p)) return false;
+    b = barycentric_2(p[0], p[1], p[2], p[3]);
+    return true;
+  }
+  std::array<WV, 3> corners(WF f) const {
+    const auto& m = s.mesh.m;
+    const WH h = m.halfedge(f);
+    return {m.source(h), m.target(h), m.target(m.next(h))};
+  }
+
+  Remesh_state& s;
+  const Base_mesh& B;
+};
+
+} // namespace internal
+} // namespace crossparam
+
+#endif // CROSSPARAM_INTERNAL_REMESHING_OVERLAY_H
