@@ -420,6 +420,7 @@ private:
     if (!asked && o.mesh.m.number_of_vertices() > internal::overlay_max_growth * stats_.layout_vertices) {
       say("remesh: the overlay has more than " + std::to_string(internal::overlay_max_growth) +
           " times the source's vertices; not decimated (--construction overlay would)");
+      stats_.seconds_overlay = sec(ts, clock::now());
       return false;
     }
     const internal::Decimation_result d =
