@@ -23,6 +23,7 @@
 #define CROSSPARAM_INTERNAL_REMESHING_OVERLAY_DECIMATION_H
 
 #include <crossparam/internal/remeshing/remesh_state.h>
+#include <crossparam/internal/remeshing/target_untangling.h>
 #include <crossparam/remeshing_verification.h>
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
@@ -101,7 +102,7 @@ struct Decimation_result {
 /// collapses that keep the checks above; `max_deviation` is the normal deviation in degrees.
 class Overlay_decimator {
 public:
-  using Target_tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, CGAL::AABB_face_graph_triangle_primitive<Work_mesh>>>;
+  using Target_tree = Target_untangler::Target_tree;
 
   /// `witness` flags the vertices whose removal leaves a witness (the target's vertices in the overlay).
   Overlay_decimator(Remesh_state& state, double max_deviation, std::size_t first_removable, std::vector<char> witness)
@@ -236,7 +237,6 @@ private:
     for (const bool centroid_only : {true, false}) // every face's centroid first: the cheapest refusals
       for (const auto& c : plan.faces)
         switch (follows_target(c, centroid_only)) {
-        case Follow::needle: return ++r.refused_needle, false;
         case Follow::far: return ++r.refused_distance, false;
         case Follow::steep: return ++r.refused_normal, false;
         case Follow::yes: break;
@@ -359,11 +359,11 @@ private:
     return want != CGAL::COLLINEAR && CGAL::orientation(q[0], q[1], q[2]) == want;
   }
 
-  /// Whether the triangle of the target-shaped mesh with corners `corner` follows the target: not a needle,
-  /// and at its centroid (`centroid_only`) or at its nine other samples (the edge midpoints and the points at
+  /// Whether the triangle of the target-shaped mesh with corners `corner` (not a needle: test() checked)
+  /// follows the target: at its centroid (`centroid_only`) or at its nine other samples (the edge midpoints and the points at
   /// the thirds of the edges) within the limit of the target, its normal within the normal deviation of the
   /// target's at the nearest point (at the centroid) or within decimation_sample_deviation times that.
-  enum class Follow { yes, needle, far, steep };
+  enum class Follow { yes, far, steep };
   /// Whether the triangle with corners c on the target-shaped mesh is a needle (decimation_min_shape).
   bool needle(const std::array<WV, 3>& c) const {
     const Point_3 &a = s.pos[c[0]], &b = s.pos[c[1]], &d = s.pos[c[2]];
@@ -373,7 +373,6 @@ private:
   }
   Follow follows_target(const std::array<WV, 3>& corner, bool centroid_only) const {
     const Point_3 &a = s.pos[corner[0]], &b = s.pos[corner[1]], &c = s.pos[corner[2]];
-    if (needle(corner)) return Follow::needle;
     const Kernel::Vector_3 n = triangle_normal(a, b, c);
     const double ln = std::sqrt(n.squared_length());
     // Each query starts from the last one's answer (the first from the first corner's own place on the
