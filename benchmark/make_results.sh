@@ -6,7 +6,7 @@
 #   bash benchmark/make_results.sh [BUILD_DIR [BENCH_DIR [TABLE...]]]
 #
 # BUILD_DIR defaults to build, BENCH_DIR to ../shared/bench beside the repository; TABLE is one of layout, map, remesh-0.5, remesh-1,
-# accuracy, wide, wide-off, wide-all, wide-straight (default: all; the four wider-bench tables read ../shared/data through
+# remesh-overlay, accuracy, wide, wide-off, wide-all, wide-straight (default: all; the four wider-bench tables read ../shared/data through
 # bench_accuracy, not BENCH_DIR). Each table's output replaces the text between its markers in doc/results.md:
 #   <!-- make_results: TABLE BEGIN --> ... <!-- make_results: TABLE END -->
 set -euo pipefail
@@ -15,7 +15,7 @@ build=${1:-build}
 bench=${2:-$here/../shared/bench}
 shift $(( $# < 2 ? $# : 2 ))
 tables=("$@")
-[ ${#tables[@]} -gt 0 ] || tables=(layout map remesh-0.5 remesh-1 accuracy wide wide-off wide-all wide-straight)
+[ ${#tables[@]} -gt 0 ] || tables=(layout map remesh-0.5 remesh-1 remesh-overlay accuracy wide wide-off wide-all wide-straight)
 results="$here/doc/results.md"
 cd "$here"
 
@@ -44,6 +44,18 @@ for t in "${tables[@]}"; do
     map)        need "$build/benchmark/bench_map"; "$build/benchmark/bench_map" "$bench" > "$tmp" ;;
     remesh-0.5) need "$build/benchmark/bench_remesh"; "$build/benchmark/bench_remesh" "$bench" 0.5 > "$tmp" ;;
     remesh-1)   need "$build/benchmark/bench_remesh"; "$build/benchmark/bench_remesh" "$bench" 1.0 > "$tmp" ;;
+    remesh-overlay)
+      # The decimated overlay alone at every tolerance, one case at a time (lion_cat's takes minutes per
+      # tolerance and is measured on its own: doc/results.md); the first case's output keeps its header.
+      need "$build/benchmark/bench_remesh"
+      first=1
+      for c in wolf0_wolf2 shrec_381_382 shrec_383_385 horse0_horse7 yang_cat_horse; do
+        if [ $first = 1 ]; then
+          "$build/benchmark/bench_remesh" "$bench" 1,0.5,0.2,0.1 "$c" --construction=overlay > "$tmp"; first=0
+        else
+          "$build/benchmark/bench_remesh" "$bench" 1,0.5,0.2,0.1 "$c" --construction=overlay | grep "^| $c " >> "$tmp"
+        fi
+      done ;;
     accuracy)
       need "$build/test/test_map"
       { echo '```text'
@@ -53,7 +65,7 @@ for t in "${tables[@]}"; do
     wide-off)       need "$build/benchmark/bench_accuracy"; "$build/benchmark/bench_accuracy" --extremity-features off > "$tmp" ;;
     wide-all)       need "$build/benchmark/bench_accuracy"; "$build/benchmark/bench_accuracy" --extremity-features all > "$tmp" ;;
     wide-straight)  need "$build/benchmark/bench_accuracy"; "$build/benchmark/bench_accuracy" --straighten-paths > "$tmp" ;;
-    *) echo "make_results: unknown table '$t' (layout, map, remesh-0.5, remesh-1, accuracy, wide, wide-off, wide-all, wide-straight)" >&2; exit 2 ;;
+    *) echo "make_results: unknown table '$t' (layout, map, remesh-0.5, remesh-1, remesh-overlay, accuracy, wide, wide-off, wide-all, wide-straight)" >&2; exit 2 ;;
   esac
   # The bench programs print a header line, a blank line and a table; drop trailing blank lines.
   sed -i -e :a -e '/^\n*$/{$d;N;ba' -e '}' "$tmp"

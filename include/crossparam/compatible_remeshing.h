@@ -403,7 +403,7 @@ private:
   /// checks (internal/remeshing/overlay_decimation.h), then the strict repair for what the overlay could not
   /// make exact. Returns whether the result fails fewer of the strict checks than the refinement's (faces
   /// flipped by the standard rule and in new self-intersecting pairs; as many, but the refinement's left
-  /// samples beyond 0.9 ε: the overlay's samples are within 0.8 ε). Unless `asked`, an overlay with more than
+  /// samples beyond 0.9 ε: the overlay is certified within 0.9 ε everywhere). Unless `asked`, an overlay with more than
   /// overlay_max_growth times the source's vertices is not decimated, and the refinement's result is kept.
   bool overlay(State& o, double max_dev, bool asked) {
     const auto ts = clock::now();
@@ -414,9 +414,6 @@ private:
     stats_.overlay_complete = made.complete;
     say("remesh: overlay: " + std::to_string(made.made.size()) + " vertices added (" + std::to_string(made.refused) +
         " refused)" + (made.complete ? "" : ", incomplete") + " in " + fmt(sec(ts, clock::now())) + " s");
-    std::vector<char> target_vertex(o.mesh.m.number_of_vertices(), 0);
-    for (internal::WV v : made.target_vertices)
-      if (v != internal::WV()) target_vertex[v] = 1;
     if (!asked && o.mesh.m.number_of_vertices() > internal::overlay_max_growth * stats_.layout_vertices) {
       say("remesh: the overlay has more than " + std::to_string(internal::overlay_max_growth) +
           " times the source's vertices; not decimated (--construction overlay would)");
@@ -424,13 +421,15 @@ private:
       return false;
     }
     const internal::Decimation_result d =
-        internal::Overlay_decimator(o, max_dev, o.mesh.n_original_vertices, std::move(target_vertex)).run();
+        internal::Overlay_decimator(o, max_dev, o.mesh.n_original_vertices).run();
     internal::compact(o);
     o.folded.assign(o.mesh.m.number_of_faces(), 0);
     o.measure();
     // What the overlay could not make exact (a split refused by its exact test leaves a face across a target
-    // edge) gets the strict repair, as the refinement's result does.
-    const internal::Strict_repair_result rep = internal::strict_repair(o, 2 * o.mesh.m.number_of_vertices());
+    // edge) gets the strict repair, as the refinement's result does, but no repair that takes a face farther from
+    // the target than the decimation's margin.
+    const internal::Strict_repair_result rep =
+        internal::strict_repair(o, 2 * o.mesh.m.number_of_vertices(), 8, internal::decimation_margin * o.eps);
     const std::size_t flipped = rep.flipped_after, intersecting = rep.intersecting_after;
     stats_.overlay_collapses = d.collapses;
     stats_.overlay_work_bound_reached = d.work_bound_reached;
@@ -440,8 +439,8 @@ private:
         std::to_string(d.collapses) + " collapses of " + std::to_string(d.tried) + " tried; refused: " +
         std::to_string(d.refused_valence) + " valence, " + std::to_string(d.refused_link) + " link, " + std::to_string(d.refused_source) + " source, " +
         std::to_string(d.refused_needle) + " needle, " + std::to_string(d.refused_distance) + " distance, " +
-        std::to_string(d.refused_normal) + " normal, " + std::to_string(d.refused_crease) + " crease, " + std::to_string(d.refused_witness) + " distance from the target, " +
-        std::to_string(d.refused_intersection) + " intersection; " + std::to_string(d.face_pairs) + " face pairs tested of " + std::to_string(d.grid_entries) + " grid entries" + (d.work_bound_reached ? ", stopped at its work bound" : "") + "); then " + std::to_string(rep.flipped_before) + " flipped and " +
+        std::to_string(d.refused_normal) + " normal, " + std::to_string(d.refused_crease) + " crease, " + std::to_string(d.refused_coverage) + " coverage of the target, " +
+        std::to_string(d.refused_intersection) + " intersection; " + std::to_string(d.face_pairs) + " face pairs tested" + (d.work_bound_reached ? ", stopped at its work bound" : "") + "); then " + std::to_string(rep.flipped_before) + " flipped and " +
         std::to_string(rep.intersecting_before) + " intersecting faces, " + std::to_string(flipped) + " and " +
         std::to_string(intersecting) + " after the strict repair (" + std::to_string(rep.splits) + " vertices added); " +
         fmt(stats_.seconds_overlay) + " s in all");

@@ -45,18 +45,18 @@ constexpr std::size_t overlay_walk_faces = 4096;
 
 /// Largest ratio of the overlay's vertices to the source's for which the automatic construction decimates it
 /// (Remeshing_construction::automatic; asked for, the overlay is always decimated). The overlay has the
-/// source's and the target's vertices plus one per crossing of their edges: 10-20 times the source's on the
-/// bench and the generated pairs, but 108 times on lion_cat, where the map squeezes the lion's coarse faces
-/// across many of the cat's, and there the decimation takes 9 minutes (the intersection tests among thousands
-/// of small faces packed together) instead of under one.
-constexpr std::size_t overlay_max_growth = 32;
+/// source's and the target's vertices plus one per crossing of their edges: 10-42 times the source's on the
+/// bench and the generated pairs (yang_cat_horse 42), but 108 times on lion_cat, where the map squeezes the
+/// lion's coarse faces across many of the cat's. The decimation costs 0.3-0.7 ms per overlay vertex on one
+/// core (yang_cat_horse's 354,000 in 1.5 minutes, lion_cat's 544,000 in 4-6): 64 times keeps it to a few
+/// minutes for a source of ten thousand vertices.
+constexpr std::size_t overlay_max_growth = 64;
 
 /// What Target_overlay::run() did.
 struct Overlay_result {
   std::vector<WV> made;     ///< vertices it added
   std::size_t refused = 0;  ///< inserts and splits refused by the exact orientation test
   bool complete = false;    ///< whether every target vertex and edge was found and inserted
-  std::vector<WV> target_vertices; ///< per target vertex: the vertex of M_s at it (none if not found)
 };
 
 /// The overlay of M_s (in `state`) with the target.
@@ -208,7 +208,6 @@ public:
       }
     }
     s.fold_slack = slack;
-    r.target_vertices = rv;
     r.complete = skipped == 0 && r.refused == 0 && r.made.size() < max_new;
     return r;
   }

@@ -50,11 +50,15 @@ constexpr std::size_t strict_repair_work = 300000000;
 /// The faces of M_st that the verifier would reject, found with the same definitions.
 class Strict_checker {
 public:
+  /// Weight of a face beyond the tolerance in local_bad(): more than any region holds faces, so that no repair
+  /// trades flips or intersections for it.
+  static constexpr std::size_t far_weight = 1000000;
   /// M_st's points as a property map of the source's vertices.
   auto positions() const { return CGAL::make_property_map(s.pos); }
   /// Finds the target's own folds once (its faces on creases or in self-intersecting pairs): a pair of M_st's
   /// faces that intersect within ε of one of them is the target's own, as the verifier counts it.
-  Strict_checker(Remesh_state& state, Target_untangler& standard) : s(state), flips(standard) {
+  Strict_checker(Remesh_state& state, Target_untangler& standard, double keep_within = 0)
+      : s(state), flips(standard), keep_within(keep_within) {
     std::vector<std::pair<WF, WF>> pairs;
     CGAL::Polygon_mesh_processing::self_intersections(faces(s.target.m), s.target.m, std::back_inserter(pairs));
     target_folds = fold_face_boxes(s.target.m, pairs);
@@ -79,13 +83,15 @@ public:
   }
 
   /// The bad figure of a region: faces of `region` flipped by the standard rule, plus the face pairs with a
-  /// face in `region` that intersect away from the target's own folds.
+  /// face in `region` that intersect away from the target's own folds; with `keep_within` > 0, plus far_weight
+  /// for each face of `region` not certified within that distance of the target (Target_untangler::far()): a
+  /// repair is then never bought with such a face.
   std::size_t local_bad(const std::vector<WF>& region) const {
     const auto& m = s.mesh.m;
     std::size_t n = 0;
     CGAL::Bbox_3 box;
     for (WF f : region) {
-      n += flips.flipped(f);
+      n += flips.flipped(f) + (keep_within > 0 && flips.far(f, keep_within) ? far_weight : 0);
       box += face_box(f);
     }
     std::vector<char> in(m.number_of_faces(), 0);
@@ -116,6 +122,7 @@ private:
 
   Remesh_state& s;
   Target_untangler& flips;
+  double keep_within; ///< the distance beyond which local_bad() counts a face (0: it does not)
   std::vector<CGAL::Bbox_3> target_folds; ///< the target's faces on creases or in self-intersecting pairs
   mutable std::size_t work_ = 0;
 };
@@ -188,10 +195,13 @@ inline std::vector<WV> repair_face(Remesh_state& s, Target_untangler& flips, WF 
 /// at most `max_passes`, and not past `max_vertices` vertices; a face whose every repair failed is not tried
 /// again. No repair that is kept adds a bad face in its region; faces outside the region are not counted, so
 /// the total can rise where repairs change them (it falls on the bench; on feline_g2 the flipped faces rose).
-inline Strict_repair_result strict_repair(Remesh_state& s, std::size_t max_vertices, unsigned max_passes = 8) {
+/// With `keep_within` > 0 (on the decimated overlay, certified within decimation_margin ε), no repair is kept
+/// that leaves a face of its region not certified within that distance of the target (Strict_checker::local_bad()).
+inline Strict_repair_result strict_repair(Remesh_state& s, std::size_t max_vertices, unsigned max_passes = 8,
+                                          double keep_within = 0) {
   auto& m = s.mesh.m;
   Target_untangler standard(s, Target_untangler::Rule::standard);
-  Strict_checker check(s, standard);
+  Strict_checker check(s, standard, keep_within);
   Strict_repair_result r;
   const std::size_t v0 = m.number_of_vertices();
   std::size_t flipped = 0, intersecting = 0;

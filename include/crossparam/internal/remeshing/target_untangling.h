@@ -7,6 +7,7 @@
 
 #include <crossparam/internal/barycentric.h>
 #include <crossparam/internal/remeshing/disk_chart.h>
+#include <crossparam/internal/remeshing/distance_certificate.h>
 #include <crossparam/internal/remeshing/remesh_state.h>
 #include <crossparam/internal/remeshing/untangle.h>
 
@@ -37,7 +38,7 @@ struct Untangle_result {
 /// The untangling of M_st on the target, with the target's AABB tree built once for all its runs.
 class Target_untangler {
 public:
-  using Target_tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, CGAL::AABB_face_graph_triangle_primitive<Work_mesh>>>;
+  using Target_tree = internal::Target_tree;
 
   /// The fold rules the untangling works to.
   enum class Rule {
@@ -74,6 +75,16 @@ public:
   std::pair<Point_3, WF> nearest(const Point_3& p) const { return tree.closest_point_and_primitive(p); }
   /// Whether face f of M_st is flipped by this untangler's rule.
   bool flipped(WF f) const { return flipped_on_target(f); }
+  /// Whether face f of M_st may have a point farther than `limit` from the target: not certified within it
+  /// (certified_within(), from its corners' nearest points).
+  bool far(WF f, double limit) const {
+    const auto& m = s.mesh.m;
+    const WH h = m.halfedge(f);
+    std::pair<Point_3, WF> hint = tree.closest_point_and_primitive(s.pos[m.source(h)]);
+    const Distance_probe a = probe(tree, s.pos[m.source(h)], hint), b = probe(tree, s.pos[m.target(h)], hint),
+                         c = probe(tree, s.pos[m.target(m.next(h))], hint);
+    return !certified_within(tree, s.target.m, a, b, c, limit, hint);
+  }
   /// Sets `s.folded` and `s.n_flipped` by this untangler's rule.
   void mark_flipped() {
     s.n_flipped = 0;
