@@ -26,20 +26,19 @@
 
 #include <crossparam/internal/remeshing/distance_certificate.h>
 #include <crossparam/internal/remeshing/remesh_state.h>
-#include <crossparam/internal/remeshing/target_untangling.h>
 #include <crossparam/remeshing_verification.h>
 
-#include <CGAL/AABB_face_graph_triangle_primitive.h>
-#include <CGAL/AABB_traits.h>
-#include <CGAL/AABB_tree.h>
 #include <CGAL/boost/graph/Euler_operations.h>
 #include <CGAL/intersections.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 
+#include <boost/geometry/algorithms/covered_by.hpp> // the R-tree needs these three and the strategies
+#include <boost/geometry/algorithms/equals.hpp>
+#include <boost/geometry/algorithms/intersects.hpp>
 #include <boost/geometry/geometries/box.hpp>
 #include <boost/geometry/geometries/point.hpp>
 #include <boost/geometry/index/rtree.hpp>
-#include <boost/geometry.hpp>
+#include <boost/geometry/strategies/strategies.hpp>
 
 #include <algorithm>
 #include <array>
@@ -53,10 +52,9 @@ namespace crossparam {
 namespace internal {
 
 /// Fraction of the tolerance ε within which the decimation keeps the target-shaped mesh from the target,
-/// both ways, certified for every point (not only at samples; see certified_within() and
-/// Overlay_decimator::covers()).
-/// The verifier measures the Hausdorff distance to 1 % of ε, the strict repair that follows may move a
-/// vertex, and positions are rounded: the remaining tenth of ε is for those.
+/// both ways, certified for every point, not only at samples (certified_within(), Overlay_decimator::covers()).
+/// The verifier measures the Hausdorff distance to 1 % of ε, the strict repair that follows may move a vertex,
+/// and positions are rounded: the remaining tenth of ε is for those.
 constexpr double decimation_margin = 0.9;
 
 /// Distance, as a fraction of ε, within which a corner of the target-shaped mesh counts as lying in a target
@@ -109,7 +107,6 @@ struct Decimation_result {
 /// collapses that keep the checks above; `max_deviation` is the normal deviation in degrees.
 class Overlay_decimator {
 public:
-
   /// `state` holds the overlay (overlay.h): each face of its mesh inside one target face.
   Overlay_decimator(Remesh_state& state, double max_deviation, std::size_t first_removable)
       : s(state), m(state.mesh.m), first_(first_removable),
@@ -391,29 +388,32 @@ private:
     for (std::size_t o = 0; o < n; ++o) piece_start_[o + 1] += piece_start_[o];
     std::vector<std::size_t> next(piece_start_.begin(), piece_start_.end() - 1);
     pieces_.assign(m.number_of_faces(), Piece());
+    unplaced_.assign(n, 0);
     for (WF f : m.faces()) {
       const int o = s.mesh.forig[f];
       Piece& p = pieces_[next[std::size_t(o)]++];
       p.v = corners(f);
       for (int i = 0; i < 3; ++i) {
-        std::array<double, 3> b{1, 0, 0}; // an overlay corner always lies on its face's input face
-        s.mesh.rep_in(p.v[std::size_t(i)], o, b);
+        std::array<double, 3> b{1, 0, 0};
+        // An overlay corner lies on its face's input face; were it not found there, no new face in that source
+        // face could be certified (covers() refuses them).
+        if (!s.mesh.rep_in(p.v[std::size_t(i)], o, b)) unplaced_[std::size_t(o)] = 1;
         p.q[std::size_t(i)] = {b[1], b[2]};
       }
     }
     grid_.assign(n, {0, 1});
+    cell_start_.assign(1, 0);
     std::vector<std::vector<std::uint32_t>> cells;
     for (std::size_t o = 0; o < n; ++o) {
       const std::size_t first = piece_start_[o], count = piece_start_[o + 1] - first;
       const int k = std::max(1, int(std::sqrt(double(count) / 2)));
-      grid_[o] = {cell_start_.empty() ? 0 : cell_start_.size() - 1, k};
+      grid_[o] = {cell_start_.size() - 1, k};
       cells.assign(std::size_t(k) * std::size_t(k), {});
       for (std::size_t i = first; i < first + count; ++i) {
         const auto [c0, c1, r0, r1] = cell_range(pieces_[i].q[0], pieces_[i].q[1], pieces_[i].q[2], k);
         for (int r = r0; r <= r1; ++r)
           for (int c = c0; c <= c1; ++c) cells[std::size_t(r * k + c)].push_back(std::uint32_t(i));
       }
-      if (cell_start_.empty()) cell_start_.push_back(0);
       for (const auto& cell : cells) {
         cell_items_.insert(cell_items_.end(), cell.begin(), cell.end());
         cell_start_.push_back(cell_items_.size());
@@ -438,6 +438,7 @@ private:
   /// clipping the overlay face to c in the coordinates of o, each clipped corner's image interpolated along
   /// the overlay face's edge it lies on). Exact but for rounding: no sample is missed.
   bool covers(const std::array<WV, 3>& c, int o) const {
+    if (unplaced_[std::size_t(o)]) return false;
     using P2 = std::array<double, 2>;
     std::array<P2, 3> q;
     for (int i = 0; i < 3; ++i) {
@@ -640,6 +641,7 @@ private:
   std::vector<CGAL::Bbox_3> target_folds_;
   std::vector<Piece> pieces_;            ///< the overlay's faces, grouped by the input source face they lie in
   std::vector<std::size_t> piece_start_; ///< per input source face o: its pieces are [piece_start_[o], piece_start_[o + 1])
+  std::vector<char> unplaced_;           ///< per input source face: whether an overlay corner was not found on it
   std::vector<std::pair<std::size_t, int>> grid_; ///< per input source face: its first cell, and k
   std::vector<std::size_t> cell_start_;  ///< per cell: its pieces are cell_items_[cell_start_[c], cell_start_[c + 1])
   std::vector<std::uint32_t> cell_items_;
