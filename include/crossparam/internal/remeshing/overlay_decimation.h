@@ -607,13 +607,13 @@ private:
   /// pairs, the slowest.
   WF home(const std::array<WV, 3>& c) const {
     const double snap2 = decimation_home_snap * s.eps * decimation_home_snap * s.eps;
-    for (int i = 0; i < 3; ++i) {
-      const WF t = s.img[c[std::size_t(i)]].face;
-      if (i > 0 && (t == s.img[c[0]].face || (i == 2 && t == s.img[c[1]].face))) continue; // tried already
+    const std::array<WF, 3> own{s.img[c[0]].face, s.img[c[1]].face, s.img[c[2]].face};
+    for (std::size_t i = 0; i < 3; ++i) {
+      const WF t = own[i];
+      if (std::find(own.begin(), own.begin() + std::ptrdiff_t(i), t) != own.begin() + std::ptrdiff_t(i)) continue; // tried
       const Kernel::Triangle_3 T = target_triangle(s.target.m, t);
       bool all = true;
-      for (int j = 0; j < 3 && all; ++j)
-        all = s.img[c[std::size_t(j)]].face == t || CGAL::squared_distance(s.pos[c[std::size_t(j)]], T) <= snap2;
+      for (std::size_t j = 0; j < 3 && all; ++j) all = own[j] == t || CGAL::squared_distance(s.pos[c[j]], T) <= snap2;
       if (all) return t;
     }
     return WF();

@@ -80,9 +80,10 @@ public:
   bool far(WF f, double limit) const {
     const auto& m = s.mesh.m;
     const WH h = m.halfedge(f);
-    std::pair<Point_3, WF> hint = tree.closest_point_and_primitive(s.pos[m.source(h)]);
-    const Distance_probe a = probe(tree, s.pos[m.source(h)], hint), b = probe(tree, s.pos[m.target(h)], hint),
-                         c = probe(tree, s.pos[m.target(m.next(h))], hint);
+    const Point_3& pa = s.pos[m.source(h)];
+    std::pair<Point_3, WF> hint = tree.closest_point_and_primitive(pa);
+    const Distance_probe a{pa, std::sqrt(CGAL::squared_distance(pa, hint.first)), hint.second}; // the query above
+    const Distance_probe b = probe(tree, s.pos[m.target(h)], hint), c = probe(tree, s.pos[m.target(m.next(h))], hint);
     return !certified_within(tree, s.target.m, a, b, c, limit, hint);
   }
   /// Sets `s.folded` and `s.n_flipped` by this untangler's rule.
