@@ -392,24 +392,19 @@ TEST_P(BenchRemesh, CompatibleAndClose) {
   // The strict checks (doc/results.md). Where the refinement's result has faces flipped by the standard rule
   // (at the target's own folds too) or in new self-intersecting pairs (horse0_horse7, lion_cat, shrec_383_385,
   // wolf0_wolf2: 7 flips at the target's folds, which the verifier lets pass), the decimated overlay is built;
-  // horse0_horse7's, shrec_383_385's and wolf0_wolf2's have none and are returned. lion_cat's overlay has 108
-  // times the source's vertices (overlay_max_growth), so the refinement's result stays, pinned at what it
-  // reaches: 17 flipped faces, 5 away from the target's folds, 11 new self-intersecting pairs.
+  // none of the four overlays has such faces, and each is returned. lion_cat's overlay, 108 times the source's
+  // vertices, is within overlay_max_growth.
   RecordProperty("flipped_faces", int(o.check.flipped_faces));
   RecordProperty("flipped_at_target_folds", int(o.check.flipped_at_target_folds));
   RecordProperty("new_self_intersections", int(o.check.new_self_intersections));
-  const std::set<std::string> overlaid{"horse0_horse7", "shrec_383_385", "wolf0_wolf2"};
+  const std::set<std::string> overlaid{"horse0_horse7", "lion_cat", "shrec_383_385", "wolf0_wolf2"};
   EXPECT_EQ(o.stats.overlay_used, overlaid.count(GetParam()) == 1);
   if (GetParam() == "lion_cat") {
-    EXPECT_GT(o.stats.overlay_vertices, 64 * o.stats.layout_vertices);
-    EXPECT_LE(o.check.flipped_faces, 18u);
-    EXPECT_LE(o.check.new_flipped_faces(), 6u);
-    EXPECT_LE(o.check.new_self_intersections, 12u);
-  } else {
-    EXPECT_TRUE(o.check.valid) << o.check.message;
-    EXPECT_EQ(o.check.new_flipped_faces(), 0u);
-    EXPECT_EQ(o.check.new_self_intersections, 0u);
+    EXPECT_GT(o.stats.overlay_vertices, 100 * o.stats.source_vertices);
   }
+  EXPECT_TRUE(o.check.valid) << o.check.message;
+  EXPECT_EQ(o.check.new_flipped_faces(), 0u);
+  EXPECT_EQ(o.check.new_self_intersections, 0u);
   // The decimation keeps each face within 30° of the target's normal at its centroid (a few faces differ
   // where the nearest point is on a target edge and the two sides' normals differ).
   if (o.stats.overlay_used) {
@@ -429,9 +424,9 @@ TEST_P(BenchRemesh, CompatibleAndClose) {
     EXPECT_EQ(o.stats.fold_repair_splits, 9u);
     EXPECT_LT(o.stats.untangle_max_move, 7.0);
   }
-  // Added vertices: 13-46 % by the refinement; the decimated overlay keeps more (horse0_horse7 +76 %,
-  // shrec_383_385 +36 %, wolf0_wolf2 +90 %).
-  EXPECT_LT(double(o.stats.output_vertices), (o.stats.overlay_used ? 2.0 : 1.5) * double(o.stats.source_vertices));
+  // Added vertices: 13-46 % by the refinement; the decimated overlay keeps more (horse0_horse7 +62 %,
+  // shrec_383_385 +27 %, wolf0_wolf2 +82 %, lion_cat +138 %: the lion is coarse where the cat is detailed).
+  EXPECT_LT(double(o.stats.output_vertices), (o.stats.overlay_used ? 2.5 : 1.5) * double(o.stats.source_vertices));
 }
 
 // At the paper's error (Table 2: L2 0.12-0.14 %; ε = 1 % gives 0.118 % here), the bench cases are within the

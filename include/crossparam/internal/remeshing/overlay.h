@@ -43,14 +43,15 @@ constexpr double conform_floor = 1e-14;
 /// the face the point locator gives, which holds the vertex up to rounding, so it ends within a few rings.
 constexpr std::size_t overlay_walk_faces = 4096;
 
-/// Largest ratio of the overlay's vertices to the source's for which the automatic construction decimates it
-/// (Remeshing_construction::automatic; asked for, the overlay is always decimated). The overlay has the
-/// source's and the target's vertices plus one per crossing of their edges: 10-42 times the source's on the
-/// bench and the generated pairs (yang_cat_horse 42), but 108 times on lion_cat, where the map squeezes the
-/// lion's coarse faces across many of the cat's. The decimation costs 0.3-0.7 ms per overlay vertex on one
-/// core (yang_cat_horse's 354,000 in 1.5 minutes, lion_cat's 544,000 in 4-6): 64 times keeps it to a few
-/// minutes for a source of ten thousand vertices.
-constexpr std::size_t overlay_max_growth = 64;
+/// Largest ratio of the overlay's vertices to the source's (after the layout's splits, layout_vertices) for
+/// which the automatic construction decimates it (Remeshing_construction::automatic; asked for, the overlay is
+/// always decimated). The overlay has the source's and the target's vertices plus one per crossing of their
+/// edges: 10-42 times the input source's on the bench and the generated pairs (yang_cat_horse 42), 108 times
+/// on lion_cat (89 times its 6140 vertices after the layout), where the map squeezes the lion's coarse faces
+/// across many of the cat's. The decimation costs about 0.15-0.25 ms per overlay vertex on one
+/// core (lion_cat's 544,000 in 80 s): 128 times keeps it to a few minutes for a source of ten thousand
+/// vertices, and the memory to about a gigabyte.
+constexpr std::size_t overlay_max_growth = 128;
 
 /// What Target_overlay::run() did.
 struct Overlay_result {
@@ -100,19 +101,8 @@ public:
         queue.pop_back();
         std::array<double, 3> b;
         const int where = inside(f, tv, b);
-        if (where == 2) {
-          const std::size_t n0 = m.number_of_vertices();
-          if (s.insert(f, b)) {
-            for (std::size_t i = n0; i < m.number_of_vertices(); ++i) r.made.push_back(WV(WV::size_type(i)));
-            rv[tv] = WV(WV::size_type(m.number_of_vertices() - 1));
-          } else {
-            ++r.refused;
-          }
-          break;
-        }
-        if (where == 1) {
-          const std::array<WV, 3> fv = corners(f);
-          rv[tv] = fv[std::size_t(std::max_element(b.begin(), b.end()) - b.begin())];
+        if (where > 0) {
+          rv[tv] = place(f, b, r);
           break;
         }
         if (visited.size() < overlay_walk_faces) {
@@ -134,25 +124,7 @@ public:
           const double mn = std::min({b[0], b[1], b[2]});
           if (mn > best_min) best_min = mn, best = f, bb = b;
         }
-        if (best != WF() && best_min > -conform_snap) {
-          for (double& x : bb) x = std::max(x, 0.0);
-          const double sum = bb[0] + bb[1] + bb[2];
-          for (double& x : bb) x /= sum;
-          const std::array<WV, 3> fv = corners(best);
-          int zero = -1, small = 0;
-          for (int k = 0; k < 3; ++k)
-            if (!(bb[k] > conform_snap)) zero = k, ++small;
-          const std::size_t n0 = m.number_of_vertices();
-          bool done = false;
-          if (small == 0) done = s.insert(best, bb);
-          else if (small == 1) done = s.split(fv[(zero + 1) % 3], fv[(zero + 2) % 3], bb[(zero + 2) % 3]);
-          if (done) {
-            for (std::size_t i = n0; i < m.number_of_vertices(); ++i) r.made.push_back(WV(WV::size_type(i)));
-            rv[tv] = WV(WV::size_type(m.number_of_vertices() - 1));
-          } else {
-            rv[tv] = fv[std::size_t(std::max_element(bb.begin(), bb.end()) - bb.begin())];
-          }
-        }
+        if (best != WF() && best_min > -conform_snap) rv[tv] = place(best, bb, r);
       }
     }
     // Target edges, each split into M_s's edges at its crossings.
@@ -214,6 +186,28 @@ public:
 
 
 private:
+  /// The vertex of M_s that a target vertex at barycentrics b of face f (inside it, or outside by less than
+  /// conform_snap) becomes: the corner of f it is at (two coordinates within conform_snap of zero), a new vertex
+  /// on the edge it is on (one) or inside f (none). If the exact test refuses the split or insert, the corner
+  /// nearest to it, counted as refused.
+  WV place(WF f, std::array<double, 3> b, Overlay_result& r) {
+    const auto& m = s.mesh.m;
+    for (double& x : b) x = std::max(x, 0.0);
+    const double sum = b[0] + b[1] + b[2];
+    for (double& x : b) x /= sum;
+    const std::array<WV, 3> fv = corners(f);
+    const WV nearest = fv[std::size_t(std::max_element(b.begin(), b.end()) - b.begin())];
+    int zero = -1, small = 0;
+    for (int k = 0; k < 3; ++k)
+      if (!(b[k] > conform_snap)) zero = k, ++small;
+    if (small >= 2) return nearest;
+    const std::size_t n0 = m.number_of_vertices();
+    const bool done = small == 0 ? s.insert(f, b) : s.split(fv[(zero + 1) % 3], fv[(zero + 2) % 3], b[(zero + 2) % 3]);
+    if (!done) return ++r.refused, nearest;
+    for (std::size_t i = n0; i < m.number_of_vertices(); ++i) r.made.push_back(WV(WV::size_type(i)));
+    return WV(WV::size_type(m.number_of_vertices() - 1));
+  }
+
   struct Crossing {
     WV u, v;
     double t = 0;

@@ -63,6 +63,12 @@ constexpr double decimation_margin = 0.9;
 /// against 10⁻¹² of it at ε = 0.1 %.
 constexpr double decimation_home_snap = 1e-9;
 
+/// Barycentric coordinate, in its own target face, below which Overlay_decimator::home() also tries the faces
+/// around a face's first corner. Only which faces are tried depends on it (the distance test decides): the
+/// overlay's corners on target edges have a coordinate of zero up to rounding, about 10⁻¹⁶; 10⁻³ is far above
+/// that and still spares the search for corners well inside their face.
+constexpr double home_border = 1e-3;
+
 /// Smallest ratio of a new face's area to the square of its longest edge on the target-shaped mesh (an
 /// equilateral triangle has 0.43). Below it a face is a needle whose computed normal is rounding: its flip
 /// test and its intersections would be decided by noise.
@@ -121,6 +127,10 @@ public:
     CGAL::Polygon_mesh_processing::self_intersections(faces(s.target.m), s.target.m, std::back_inserter(pairs));
     target_folds_ = fold_face_boxes(s.target.m, pairs);
     record_overlay();
+    for (WF t : s.target.m.faces()) {
+      const WH th = s.target.m.halfedge(t);
+      target_corners_.push_back({s.target.m.source(th), s.target.m.target(th), s.target.m.target(s.target.m.next(th))});
+    }
   }
 
   /// Runs the decimation to the end (no collapse left that passes) or until the time budget runs out.
@@ -180,6 +190,7 @@ private:
   struct Plan {
     std::vector<std::array<WV, 3>> faces;
     std::vector<int> orig;
+    std::vector<WF> home; ///< per new face: the target face holding it (home()), or none
   };
 
   bool removable(WV v) const {
@@ -208,6 +219,8 @@ private:
     std::array<double, 3> b;
     for (WF f : star)
       if (!s.mesh.rep_in(w, s.mesh.forig[f], b)) return ++r.refused_source, false;
+    // Whether every new face stays in the target face its star face was in (home()): see below.
+    bool at_home = true;
     for (WF f : star) {
       std::array<WV, 3> c = corners(f);
       if (c[0] == w || c[1] == w || c[2] == w) continue;
@@ -215,6 +228,8 @@ private:
         if (x == u) x = w;
       if (needle(c)) return ++r.refused_needle, false;
       plan.faces.push_back(c);
+      plan.home.push_back(home(c));
+      at_home = at_home && plan.home.back() != WF() && plan.home.back() == home_[f];
     }
     // The source: each new face in an input face that held a face of the star, oriented as there.
     for (const auto& c : plan.faces) {
@@ -233,19 +248,27 @@ private:
     const Base_mesh& B = *s.param.base;
     for (const auto& c : plan.faces)
       if (B.triangle_orientation(s.param[c[0]], s.param[c[1]], s.param[c[2]]) != CGAL::POSITIVE) return ++r.refused_source, false;
-    // The target: shape, distance and normal at the samples.
+    // The target: shape, distance and normal at the samples. When every new face stays in its star face's
+    // target face, the samples, the distance certificate and the coverage below are known to pass: there the
+    // map is affine and one-to-one and the new faces are positive over the base mesh (checked above), so in
+    // each target face they cover exactly what the star's faces there covered (u, if on a target edge, lies
+    // between its two neighbours along it), at distance zero and with that face's normal. The centroid's
+    // test, which also compares with the target faces around the nearest point, still runs.
     for (const bool centroid_only : {true, false}) // every face's centroid first: the cheapest refusals
-      for (const auto& c : plan.faces)
+      for (const auto& c : plan.faces) {
+        if (!centroid_only && at_home) break;
         switch (follows_target(c, centroid_only)) {
         case Follow::far: return ++r.refused_distance, false;
         case Follow::steep: return ++r.refused_normal, false;
         case Follow::yes: break;
         }
+      }
     // Creases: no more edges whose faces fold back onto each other than the star had.
     if (creases_after(plan, u) > creases_before(star)) return ++r.refused_crease, false;
     // The target: every point of it that a new face stands for, near that face.
-    for (std::size_t i = 0; i < plan.faces.size(); ++i)
-      if (!covers(plan.faces[i], plan.orig[i])) return ++r.refused_coverage, false;
+    if (!at_home)
+      for (std::size_t i = 0; i < plan.faces.size(); ++i)
+        if (!covers(plan.faces[i], plan.orig[i])) return ++r.refused_coverage, false;
     // Intersections: the new faces with each other and with the faces near them.
     for (std::size_t i = 0; i < plan.faces.size(); ++i)
       for (std::size_t j = i + 1; j < plan.faces.size(); ++j)
@@ -254,10 +277,10 @@ private:
     for (WF f : star) stamp_[f] = current_; // the star's faces are replaced: not tested
     for (const auto& c : plan.faces) {
       const CGAL::Bbox_3 box = s.pos[c[0]].bbox() + s.pos[c[1]].bbox() + s.pos[c[2]].bbox();
-      const WF h = home(c);
+      const WF h = plan.home[std::size_t(&c - plan.faces.data())];
       for (auto it = index_.qbegin(boost::geometry::index::intersects(to_box(box))); it != index_.qend(); ++it) {
         const WF g(it->second);
-        if (stamp_[g] == current_ || (h != WF() && home_[g] == h)) continue;
+        if (stamp_[g] == current_ || (h != WF() && home_[g] != WF() && touching_homes(h, home_[g]))) continue;
         ++r.face_pairs;
         if (intersect(c, corners(g), degenerate_[g]) && !near_target_fold(box + box_[g])) return ++r.refused_intersection, false;
       }
@@ -608,15 +631,41 @@ private:
   WF home(const std::array<WV, 3>& c) const {
     const double snap2 = decimation_home_snap * s.eps * decimation_home_snap * s.eps;
     const std::array<WF, 3> own{s.img[c[0]].face, s.img[c[1]].face, s.img[c[2]].face};
+    auto holds = [&](WF t) {
+      const Kernel::Triangle_3 T = target_triangle(s.target.m, t);
+      for (std::size_t j = 0; j < 3; ++j)
+        if (own[j] != t && CGAL::squared_distance(s.pos[c[j]], T) > snap2) return false;
+      return true;
+    };
     for (std::size_t i = 0; i < 3; ++i) {
       const WF t = own[i];
       if (std::find(own.begin(), own.begin() + std::ptrdiff_t(i), t) != own.begin() + std::ptrdiff_t(i)) continue; // tried
-      const Kernel::Triangle_3 T = target_triangle(s.target.m, t);
-      bool all = true;
-      for (std::size_t j = 0; j < 3 && all; ++j) all = own[j] == t || CGAL::squared_distance(s.pos[c[j]], T) <= snap2;
-      if (all) return t;
+      if (holds(t)) return t;
     }
+    // A face along a target edge may have every corner located in the faces beyond it (a corner on an edge
+    // or a vertex is located in any face there). The face that holds it then holds its first corner too, so
+    // it is one of the faces around that corner's target face, if that corner is on its border.
+    const auto& b = s.img[c[0]].b;
+    if (!(std::min({b[0], b[1], b[2]}) < home_border)) return WF();
+    const auto& tm = s.target.m;
+    for (WH h : CGAL::halfedges_around_face(tm.halfedge(own[0]), tm))
+      for (WF t : CGAL::faces_around_target(h, tm))
+        if (t != WF() && std::find(own.begin(), own.end(), t) == own.end() && holds(t)) return t;
     return WF();
+  }
+  /// Whether faces of the target-shaped mesh at home in target faces a and b need no intersection test: a and b
+  /// are one face, or share a corner. In one target face, see home(). In two that share a corner, each face
+  /// lies in its own target face, and the two target faces meet only at their common edge or corner (where
+  /// they meet elsewhere, the target intersects itself there and the pair is excused anyway,
+  /// near_target_fold()); on a common edge the faces of either side have the same vertices, those of the
+  /// overlay on that edge, so they meet at shared corners or edges only. Where the map squeezes, most box
+  /// overlaps are such pairs across a target edge, and their exact tests the slowest (nearly coplanar).
+  bool touching_homes(WF a, WF b) const {
+    if (a == b) return true;
+    const auto &p = target_corners_[std::size_t(a)], &q = target_corners_[std::size_t(b)];
+    for (WV x : p)
+      if (x == q[0] || x == q[1] || x == q[2]) return true;
+    return false;
   }
   /// Records f's box, degeneracy and home and returns its entry.
   Entry record(WF f) {
@@ -653,6 +702,7 @@ private:
   std::vector<CGAL::Bbox_3> box_;       ///< per face: its box as entered in the index
   std::vector<char> degenerate_;        ///< per face: its corners collinear (exact), as entered
   std::vector<WF> home_;                ///< per face: the target face holding it (home()), as entered
+  std::vector<std::array<WV, 3>> target_corners_; ///< per target face: its corners
   std::vector<std::uint64_t> stamp_;    ///< per face: the test that last excluded it
   std::uint64_t current_ = 0;
 };
