@@ -621,9 +621,10 @@ private:
   static Index_box to_box(const CGAL::Bbox_3& b) {
     return Index_box(Index_point(b.xmin(), b.ymin(), b.zmin()), Index_point(b.xmax(), b.ymax(), b.zmax()));
   }
-  /// The target face that holds every corner of the face with corners c, if one of the corners' own target
-  /// faces (s.img) does: every corner within decimation_home_snap ε of it (a corner on a target edge or vertex
-  /// is located in any of the faces there, up to rounding). Two faces of the target-shaped mesh in one target
+  /// The target face that holds every corner of the face with corners c (each within decimation_home_snap ε
+  /// of it), if one does: one of the corners' own target faces (s.img), or one around the first corner's when
+  /// that corner is on its border (a corner on a target edge or vertex is located in any of the faces there,
+  /// up to rounding); none otherwise. Two faces of the target-shaped mesh in one target
   /// face cannot intersect beyond what they share: there the map is an affine bijection, each is the image of
   /// its triangle in the base mesh, and those do not overlap (the parameterization is one-to-one, checked
   /// exactly). Where the map squeezes many faces into one target face, this spares the exact tests of coplanar
