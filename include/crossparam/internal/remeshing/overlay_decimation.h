@@ -219,8 +219,7 @@ private:
     std::array<double, 3> b;
     for (WF f : star)
       if (!s.mesh.rep_in(w, s.mesh.forig[f], b)) return ++r.refused_source, false;
-    // Whether every new face stays in the target face its star face was in (home()): see below.
-    bool at_home = true;
+    std::vector<WF> replaced; // per new face: the face of the star it replaces
     for (WF f : star) {
       std::array<WV, 3> c = corners(f);
       if (c[0] == w || c[1] == w || c[2] == w) continue;
@@ -228,8 +227,7 @@ private:
         if (x == u) x = w;
       if (needle(c)) return ++r.refused_needle, false;
       plan.faces.push_back(c);
-      plan.home.push_back(home(c));
-      at_home = at_home && plan.home.back() != WF() && plan.home.back() == home_[f];
+      replaced.push_back(f);
     }
     // The source: each new face in an input face that held a face of the star, oriented as there.
     for (const auto& c : plan.faces) {
@@ -248,6 +246,12 @@ private:
     const Base_mesh& B = *s.param.base;
     for (const auto& c : plan.faces)
       if (B.triangle_orientation(s.param[c[0]], s.param[c[1]], s.param[c[2]]) != CGAL::POSITIVE) return ++r.refused_source, false;
+    // Whether every new face stays in the target face of the star face it replaces (home()): see below.
+    bool at_home = true;
+    for (std::size_t i = 0; i < plan.faces.size(); ++i) {
+      plan.home.push_back(home(plan.faces[i]));
+      at_home = at_home && plan.home[i] != WF() && plan.home[i] == home_[replaced[i]];
+    }
     // The target: shape, distance and normal at the samples. When every new face stays in its star face's
     // target face, the samples, the distance certificate and the coverage below are known to pass: there the
     // map is affine and one-to-one and the new faces are positive over the base mesh (checked above), so in
