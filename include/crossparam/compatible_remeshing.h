@@ -124,6 +124,7 @@ struct Remeshing_statistics {
   bool overlay_used = false;                  ///< whether the result is the decimated overlay
   std::size_t overlay_vertices = 0;           ///< vertices of the overlay before its decimation (0: not built)
   std::size_t overlay_refused = 0;            ///< inserts and splits of the overlay refused by their exact test
+  std::size_t overlay_flips = 0;              ///< edge flips of the overlay: to insert target edges, then Lawson's
   bool overlay_complete = false;              ///< whether every target vertex and edge is in the overlay
   std::size_t overlay_collapses = 0;          ///< vertices the decimation removed
   bool overlay_work_bound_reached = false;    ///< whether the decimation stopped at its work bound
@@ -411,9 +412,12 @@ private:
     const internal::Overlay_result made = internal::Target_overlay(o).run(std::size_t(-1));
     stats_.overlay_vertices = o.mesh.m.number_of_vertices();
     stats_.overlay_refused = made.refused;
+    stats_.overlay_flips = made.flips + made.delaunay_flips;
     stats_.overlay_complete = made.complete;
     say("remesh: overlay: " + std::to_string(made.made.size()) + " vertices added (" + std::to_string(made.refused) +
-        " refused)" + (made.complete ? "" : ", incomplete") + " in " + fmt(sec(ts, clock::now())) + " s");
+        " refused), " + std::to_string(made.flips) + " edges flipped to insert target edges, " +
+        std::to_string(made.delaunay_flips) + " Lawson flips" + (made.complete ? "" : ", incomplete") + " in " +
+        fmt(sec(ts, clock::now())) + " s");
     if (!asked && o.mesh.m.number_of_vertices() > internal::overlay_max_growth * stats_.layout_vertices) {
       say("remesh: the overlay has more than " + std::to_string(internal::overlay_max_growth) +
           " times the source's vertices; not decimated (--construction overlay would)");

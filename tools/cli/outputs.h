@@ -418,7 +418,7 @@ inline Remeshing_verification write_remesh(const Options& o, const Map& cp, cons
     j.member("vertices_added", S.strict_splits);
     j.member("passes", S.strict_rounds).member("work_bound_reached", S.strict_work_bound_reached).end_object();
     j.key("overlay").begin_object().member("used", S.overlay_used).member("vertices", S.overlay_vertices);
-    j.member("refused", S.overlay_refused).member("complete", S.overlay_complete).member("collapses", S.overlay_collapses);
+    j.member("refused", S.overlay_refused).member("flips", S.overlay_flips).member("complete", S.overlay_complete).member("collapses", S.overlay_collapses);
     j.member("work_bound_reached", S.overlay_work_bound_reached);
     j.member("flipped", S.overlay_flipped).member("intersecting", S.overlay_intersecting).end_object();
     j.key("surface_gaps").begin_object().member("sampled_max_before_percent", S.gap_before).member("vertices_added", S.gap_vertices);

@@ -1,13 +1,21 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The map's overlay as a compatible remesh (an addition to the paper). Over the base mesh, the source's faces
-// and the target's faces are two triangulations of one domain, and the map F is linear on each piece of their
-// overlay. Target_overlay makes every target vertex a vertex of M_s (Remesh_state::insert()) and splits every
-// edge of M_s that a target edge crosses at the crossing (Remesh_state::split()), so that each face of M_s lies
+// and the target's faces are two triangulations of one domain. Target_overlay makes every target vertex a vertex
+// of M_s (Remesh_state::insert()) and every target edge a chain of edges of M_s, so that each face of M_s lies
 // inside one target face over the base mesh. Its image M_st then lies inside that target face: on the target,
-// with the target's normal, at distance zero, meeting another face only where the target meets itself. The
-// source-shaped mesh stays an exact copy of the source (every new vertex lies in a source face) and the
-// parameterization one-to-one (the exact test of each split and insert). The overlay has many vertices; the
-// decimation (overlay_decimation.h) removes those the checks do not need.
+// with the target's normal, at distance zero, meeting another face only where the target meets itself. A target
+// edge is inserted as a constrained edge is in a triangulation (Sloan 1993): the edges of M_s it crosses are
+// flipped where that keeps the source (both faces in one source face, convex there) and the parameterization
+// one-to-one (Remesh_state::flip_keeps_source()), and split at the crossing (Remesh_state::split()) where not:
+// at a source edge, a layout path, or a quadrilateral that stays concave. Splitting every crossed edge instead
+// adds a vertex per crossing with every edge an earlier split made, and the count grows with the square of the
+// target vertices a source face holds (eiffel_g4: 3.5 million vertices, 400,000 with the flips). Lawson's flips
+// (delaunay()) then fatten the faces inside each target face: the insertion's flips leave long thin ones whose
+// normals rounding decides. The source-shaped mesh stays an exact copy of the source (every vertex lies in a
+// source face, every face in one, positively oriented there) and the parameterization one-to-one (the exact test
+// of each split, insert and flip). On each face the correspondence is the affine map between its source
+// triangle and its M_st triangle: F at the vertices. The overlay has many vertices; the decimation
+// (overlay_decimation.h) removes those the checks do not need.
 //
 // Crossings are computed with exact predicates in the base mesh's frame that holds both edges
 // (Base_mesh::canonical_frame()), or in the base triangle two frames share; a target vertex or edge within
@@ -22,6 +30,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <set>
 #include <vector>
 
 namespace crossparam {
@@ -53,10 +62,24 @@ constexpr std::size_t overlay_walk_faces = 4096;
 /// vertices, and the memory to about a gigabyte.
 constexpr std::size_t overlay_max_growth = 128;
 
+/// Bound on the passes of flips that make a target edge a chain of edges of M_s (Target_overlay::run()). A pass
+/// flips every edge the target edge crosses whose two faces allow it; an edge whose quadrilateral is concave
+/// waits for a neighbour's flip. The passes end when one flips nothing; the bound only caps the time where
+/// rounding would make flips undo each other. What is left is split at the crossings, which is always valid,
+/// so the bound changes the overlay's size, never its exactness.
+constexpr std::size_t overlay_flip_passes = 32;
+
+/// Bound on Target_overlay::delaunay()'s flips, per edge of M_s. Lawson's flips end after finitely many (in a
+/// plane each raises the sorted vector of the triangles' angles, and each flip is inside one target face);
+/// this only bounds the time where rounding would make two flips undo each other.
+constexpr std::size_t overlay_delaunay_work = 8;
+
 /// What Target_overlay::run() did.
 struct Overlay_result {
   std::vector<WV> made;     ///< vertices it added
   std::size_t refused = 0;  ///< inserts and splits refused by the exact orientation test
+  std::size_t flips = 0;    ///< edges of M_s flipped to make target edges edges of M_s
+  std::size_t delaunay_flips = 0; ///< edges flipped afterwards to fatten the faces (Target_overlay::delaunay())
   bool complete = false;    ///< whether every target vertex and edge was found and inserted
 };
 
@@ -127,8 +150,11 @@ public:
         if (best != WF() && best_min > -conform_snap) rv[tv] = place(best, bb, r);
       }
     }
-    // Target edges, each split into M_s's edges at its crossings.
+    // Target edges, each made a chain of M_s's edges: by flips where M_s allows them, by splits at the
+    // remaining crossings.
     std::size_t skipped = 0;
+    std::set<std::array<WV, 2>> on_target; // edges of M_s along target edges already inserted
+    auto key = [](WV u, WV v) { return std::array<WV, 2>{{std::min(u, v), std::max(u, v)}}; };
     for (WE te : tm.edges()) {
       if (r.made.size() >= max_new) break;
       const WV a = tm.vertex(te, 0), b = tm.vertex(te, 1);
@@ -136,49 +162,52 @@ public:
         ++skipped;
         continue;
       }
-      std::vector<WF> queue, hit;
-      faces_of(rv[a], queue);
-      faces_of(rv[b], queue);
-      seen.assign(m.number_of_faces(), 0);
-      for (WF g : queue) seen[g] = 1;
-      while (!queue.empty()) {
-        const WF g = queue.back();
-        queue.pop_back();
-        if (!meets(g, a, b)) continue;
-        hit.push_back(g);
-        std::vector<WF> next;
-        for (WV v : corners(g)) faces_of(v, next);
-        for (WF k : next)
-          if (!seen[k]) seen[k] = 1, queue.push_back(k);
+      std::vector<Crossing> xs = crossings(a, b, rv[a], rv[b], seen);
+      // Flips first (Sloan's insertion of a constrained edge): each crossed edge whose two faces form a
+      // quadrilateral that flip_keeps_source() allows is flipped; its new diagonal, if it crosses too, and
+      // the edges that cannot be flipped yet wait for the next pass. The other edges of M_s are untouched by
+      // a flip, so the list stays complete.
+      for (std::size_t pass = 0; pass < overlay_flip_passes && !xs.empty(); ++pass) {
+        std::vector<Crossing> wait;
+        std::size_t flips = 0;
+        for (const Crossing& x : xs) {
+          const WH h = m.halfedge(x.u, x.v);
+          if (h == WH()) continue;
+          if (on_target.count(key(x.u, x.v)) || !s.flip_keeps_source(h)) {
+            wait.push_back(x);
+            continue;
+          }
+          const WV p = m.target(m.next(h)), q = m.target(m.next(m.opposite(h)));
+          s.touch(x.u, x.v);
+          CGAL::Euler::flip_edge(h, m);
+          ++flips;
+          Crossing y;
+          if (crossing(std::min(p, q), std::max(p, q), a, b, y)) wait.push_back(y);
+        }
+        r.flips += flips;
+        xs = std::move(wait);
+        if (flips == 0) break;
       }
-      {
-        // One ring more: a face that frames place on the other side of the edge by rounding.
-        std::vector<WF> ring;
-        for (WF g : hit)
-          for (WV v : corners(g)) faces_of(v, ring);
-        hit.insert(hit.end(), ring.begin(), ring.end());
-      }
-      std::vector<std::array<WV, 2>> es;
-      for (WF g : hit)
-        for (WH h : CGAL::halfedges_around_face(m.halfedge(g), m))
-          es.push_back({std::min(m.source(h), m.target(h)), std::max(m.source(h), m.target(h))});
-      std::sort(es.begin(), es.end());
-      es.erase(std::unique(es.begin(), es.end()), es.end());
-      std::vector<Crossing> xs;
-      for (const auto& e : es) {
-        Crossing x;
-        if (crossing(e[0], e[1], a, b, x)) xs.push_back(x);
-      }
+      std::vector<WV> chain{rv[a], rv[b]};
       for (const Crossing& x : xs) {
         if (m.halfedge(x.u, x.v) == WH()) continue;
         const std::size_t n0 = m.number_of_vertices();
         if (s.split(x.u, x.v, x.t)) {
-          for (std::size_t i = n0; i < m.number_of_vertices(); ++i) r.made.push_back(WV(WV::size_type(i)));
+          for (std::size_t i = n0; i < m.number_of_vertices(); ++i) {
+            r.made.push_back(WV(WV::size_type(i)));
+            chain.push_back(WV(WV::size_type(i)));
+          }
         } else {
           ++r.refused;
         }
       }
+      // The edges of M_s between two of the chain's vertices lie along the target edge: none is flipped
+      // for a later one.
+      for (WV u : chain)
+        for (WV w : CGAL::vertices_around_target(m.halfedge(u), m))
+          if (std::find(chain.begin(), chain.end(), w) != chain.end()) on_target.insert(key(u, w));
     }
+    r.delaunay_flips = delaunay(on_target);
     s.fold_slack = slack;
     r.complete = skipped == 0 && r.refused == 0 && r.made.size() < max_new;
     return r;
@@ -212,6 +241,84 @@ private:
     WV u, v;
     double t = 0;
   };
+  /// Lawson's flips on M_st, after the target edges are in: an edge that lies along no target edge, whose
+  /// two faces therefore lie in one target face (a plane), is flipped when the angles opposite it add up to
+  /// more than a half turn there (by a relative 10^-9, so that four points on a circle, up to rounding, are
+  /// left as they are) and flip_keeps_source() allows it. The flips of the insertion leave long
+  /// thin faces along the target edges, whose normals rounding decides; these flips make the faces inside
+  /// each target face as fat as the source and the target edges allow. At most overlay_delaunay_work flips
+  /// per edge of M_s. Returns the number of flips.
+  std::size_t delaunay(const std::set<std::array<WV, 2>>& fixed) {
+    auto& m = s.mesh.m;
+    auto angle = [&](WV apex, WV u, WV v) {
+      const Kernel::Vector_3 a = s.pos[u] - s.pos[apex], b = s.pos[v] - s.pos[apex];
+      return std::atan2(std::sqrt(CGAL::cross_product(a, b).squared_length()), a * b);
+    };
+    std::vector<WE> queue(m.edges().begin(), m.edges().end());
+    std::vector<char> queued(m.number_of_edges(), 1);
+    const std::size_t bound = overlay_delaunay_work * m.number_of_edges();
+    std::size_t flips = 0;
+    while (!queue.empty() && flips < bound) {
+      const WE e = queue.back();
+      queue.pop_back();
+      queued[e] = 0;
+      const WH h = m.halfedge(e), o = m.opposite(h);
+      const WV u = m.source(h), v = m.target(h);
+      if (fixed.count({{std::min(u, v), std::max(u, v)}}) || !s.flip_keeps_source(h)) continue;
+      const WV x = m.target(m.next(h)), y = m.target(m.next(o));
+      if (!(angle(x, u, v) + angle(y, v, u) > CGAL_PI * (1 + 1e-9))) continue;
+      s.touch(u, v);
+      CGAL::Euler::flip_edge(h, m);
+      ++flips;
+      for (WH g : {m.next(h), m.prev(h), m.next(o), m.prev(o)})
+        if (!queued[m.edge(g)]) queued[m.edge(g)] = 1, queue.push_back(m.edge(g));
+    }
+    return flips;
+  }
+
+  /// The crossings of target edge (a, b), whose ends are vertices ra and rb of M_s, with M_s's edges: a walk
+  /// over the faces that meet the edge, from those around its ends, and one ring more.
+  std::vector<Crossing> crossings(WV a, WV b, WV ra, WV rb, std::vector<char>& seen) const {
+    const auto& m = s.mesh.m;
+    auto faces_of = [&](WV v, std::vector<WF>& out) {
+      for (WF g : CGAL::faces_around_target(m.halfedge(v), m))
+        if (g != WF()) out.push_back(g);
+    };
+    std::vector<WF> queue, hit;
+    faces_of(ra, queue);
+    faces_of(rb, queue);
+    seen.assign(m.number_of_faces(), 0);
+    for (WF g : queue) seen[g] = 1;
+    while (!queue.empty()) {
+      const WF g = queue.back();
+      queue.pop_back();
+      if (!meets(g, a, b)) continue;
+      hit.push_back(g);
+      std::vector<WF> next;
+      for (WV v : corners(g)) faces_of(v, next);
+      for (WF k : next)
+        if (!seen[k]) seen[k] = 1, queue.push_back(k);
+    }
+    {
+      // One ring more: a face that frames place on the other side of the edge by rounding.
+      std::vector<WF> ring;
+      for (WF g : hit)
+        for (WV v : corners(g)) faces_of(v, ring);
+      hit.insert(hit.end(), ring.begin(), ring.end());
+    }
+    std::vector<std::array<WV, 2>> es;
+    for (WF g : hit)
+      for (WH h : CGAL::halfedges_around_face(m.halfedge(g), m))
+        es.push_back({std::min(m.source(h), m.target(h)), std::max(m.source(h), m.target(h))});
+    std::sort(es.begin(), es.end());
+    es.erase(std::unique(es.begin(), es.end()), es.end());
+    std::vector<Crossing> xs;
+    for (const auto& e : es) {
+      Crossing x;
+      if (crossing(e[0], e[1], a, b, x)) xs.push_back(x);
+    }
+    return xs;
+  }
   /// Whether target edge (a, b) crosses edge (u, v) of M_s at a point u + t (v - u) with t in
   /// (conform_snap, 1 - conform_snap), decided with exact predicates in the frame that holds the four.
   bool crossing(WV u, WV v, WV a, WV b, Crossing& x) const {
