@@ -54,12 +54,12 @@ constexpr std::size_t overlay_walk_faces = 4096;
 
 /// Largest ratio of the overlay's vertices to the source's (after the layout's splits, layout_vertices) for
 /// which the automatic construction decimates it (Remeshing_construction::automatic; asked for, the overlay is
-/// always decimated). The overlay has the source's and the target's vertices plus one per crossing of their
-/// edges: 10-42 times the input source's on the bench and the generated pairs (yang_cat_horse 42), 108 times
-/// on lion_cat (89 times its 6140 vertices after the layout), where the map squeezes the lion's coarse faces
-/// across many of the cat's. The decimation costs about 0.15-0.25 ms per overlay vertex on one
-/// core (lion_cat's 544,000 in 80 s): 128 times keeps it to a few minutes for a source of ten thousand
-/// vertices, and the memory to about a gigabyte.
+/// always decimated). The overlay has the source's and the target's vertices plus one per crossing that the
+/// flips do not remove: 7.5-16 times the source's after the layout on the bench (lion_cat and yang_cat_horse
+/// 16), 11 times on feline_g2, 37 times on eiffel_g4, whose map squeezes the tower's upper part into a few
+/// faces of the pyramid. The decimation costs about 0.1-0.3 ms per overlay vertex on one core (lion_cat's
+/// 98,000 in 15 s, eiffel_g4's 412,000 in 2 minutes): 128 times keeps it to a few minutes for a source of ten
+/// thousand vertices, and the memory to about a gigabyte.
 constexpr std::size_t overlay_max_growth = 128;
 
 /// Bound on the passes of flips that make a target edge a chain of edges of M_s (Target_overlay::run()). A pass
@@ -107,10 +107,6 @@ public:
     locator.build(s.param);
     std::vector<WV> rv(tm.number_of_vertices(), WV());
     std::vector<char> seen;
-    auto faces_of = [&](WV v, std::vector<WF>& out) {
-      for (WF g : CGAL::faces_around_target(m.halfedge(v), m))
-        if (g != WF()) out.push_back(g);
-    };
     // Target vertices, each in the piece of the face that held it when the walk began.
     for (WV tv : tm.vertices()) {
       if (r.made.size() >= max_new) break;
@@ -280,10 +276,6 @@ private:
   /// over the faces that meet the edge, from those around its ends, and one ring more.
   std::vector<Crossing> crossings(WV a, WV b, WV ra, WV rb, std::vector<char>& seen) const {
     const auto& m = s.mesh.m;
-    auto faces_of = [&](WV v, std::vector<WF>& out) {
-      for (WF g : CGAL::faces_around_target(m.halfedge(v), m))
-        if (g != WF()) out.push_back(g);
-    };
     std::vector<WF> queue, hit;
     faces_of(ra, queue);
     faces_of(rb, queue);
@@ -444,6 +436,12 @@ private:
     if (!B.canonical_frame(ls, c, n, p)) return false;
     b = barycentric_2(p[0], p[1], p[2], p[3]);
     return true;
+  }
+  /// Appends the faces around vertex v of M_s to `out`.
+  void faces_of(WV v, std::vector<WF>& out) const {
+    const auto& m = s.mesh.m;
+    for (WF g : CGAL::faces_around_target(m.halfedge(v), m))
+      if (g != WF()) out.push_back(g);
   }
   std::array<WV, 3> corners(WF f) const {
     const auto& m = s.mesh.m;
