@@ -56,8 +56,8 @@ constexpr std::size_t overlay_walk_faces = 4096;
 /// which the automatic construction decimates it (Remeshing_construction::automatic; asked for, the overlay is
 /// always decimated). The overlay has the source's and the target's vertices plus one per crossing that the
 /// flips do not remove: 7.5-16 times the source's after the layout on the bench (lion_cat and yang_cat_horse
-/// 16), 11 times on feline_g2, 37 times on eiffel_g4, whose map squeezes the tower's upper part into a few
-/// faces of the pyramid. The decimation costs about 0.1-0.3 ms per overlay vertex on one core (lion_cat's
+/// 16), 11 times on feline_g2, 37 times on eiffel_g4, whose map sends the part of the tower around its second
+/// platform into a few faces of the pyramid. The decimation costs about 0.1-0.3 ms per overlay vertex on one core (lion_cat's
 /// 98,000 in 15 s, eiffel_g4's 412,000 in 2 minutes): 128 times keeps it to a few minutes for a source of ten
 /// thousand vertices, and the memory to about a gigabyte.
 constexpr std::size_t overlay_max_growth = 128;
