@@ -9,7 +9,7 @@
 // one-to-one (Remesh_state::flip_keeps_source()), and split at the crossing (Remesh_state::split()) where not:
 // at a source edge, a layout path, or a quadrilateral that stays concave. Splitting every crossed edge instead
 // adds a vertex per crossing with every edge an earlier split made, and the count grows with the square of the
-// target vertices a source face holds (eiffel_g4: 3.5 million vertices, 400,000 with the flips). Lawson's flips
+// target vertices a source face holds (eiffel_g4: 3.56 million vertices, 412,000 with the flips). Lawson's flips
 // (delaunay()) then fatten the faces inside each target face: the insertion's flips leave long thin ones whose
 // normals rounding decides. The source-shaped mesh stays an exact copy of the source (every vertex lies in a
 // source face, every face in one, positively oriented there) and the parameterization one-to-one (the exact test
@@ -57,9 +57,9 @@ constexpr std::size_t overlay_walk_faces = 4096;
 /// always decimated). The overlay has the source's and the target's vertices plus one per crossing that the
 /// flips do not remove: 7.5-16 times the source's after the layout on the bench (lion_cat and yang_cat_horse
 /// 16), 11 times on feline_g2, 37 times on eiffel_g4, whose map sends the part of the tower around its second
-/// platform into a few faces of the pyramid. The decimation costs about 0.1-0.3 ms per overlay vertex on one core (lion_cat's
-/// 98,000 in 15 s, eiffel_g4's 412,000 in 2 minutes): 128 times keeps it to a few minutes for a source of ten
-/// thousand vertices, and the memory to about a gigabyte.
+/// platform into a few faces of the pyramid. The decimation costs about 0.1-0.3 ms per overlay vertex on one
+/// core (lion_cat's 98,000 in 15 s, eiffel_g4's 412,000 in 2 minutes): 128 times keeps it to a few minutes
+/// for a source of ten thousand vertices, and the memory to about a gigabyte.
 constexpr std::size_t overlay_max_growth = 128;
 
 /// Bound on the passes of flips that make a target edge a chain of edges of M_s (Target_overlay::run()). A pass
