@@ -24,6 +24,7 @@
 #define CROSSPARAM_INTERNAL_REMESHING_OVERLAY_H
 
 #include <crossparam/internal/remeshing/remesh_state.h>
+#include <crossparam/metrics.h>
 
 
 #include <algorithm>
@@ -246,10 +247,7 @@ private:
   /// per edge of M_s. Returns the number of flips.
   std::size_t delaunay(const std::set<std::array<WV, 2>>& fixed) {
     auto& m = s.mesh.m;
-    auto angle = [&](WV apex, WV u, WV v) {
-      const Kernel::Vector_3 a = s.pos[u] - s.pos[apex], b = s.pos[v] - s.pos[apex];
-      return std::atan2(std::sqrt(CGAL::cross_product(a, b).squared_length()), a * b);
-    };
+    auto angle = [&](WV apex, WV u, WV v) { return corner_angles({{s.pos[apex], s.pos[u], s.pos[v]}})[0]; };
     std::vector<WE> queue(m.edges().begin(), m.edges().end());
     std::vector<char> queued(m.number_of_edges(), 1);
     const std::size_t bound = overlay_delaunay_work * m.number_of_edges();
