@@ -128,6 +128,8 @@ struct Remeshing_statistics {
   bool overlay_complete = false;              ///< whether every target vertex and edge is in the overlay
   std::size_t overlay_collapses = 0;          ///< vertices the decimation removed
   bool overlay_work_bound_reached = false;    ///< whether the decimation stopped at its work bound
+  std::size_t overlay_needles_removed = 0;     ///< collapses of the decimation's needle removal
+  std::size_t overlay_needles_left = 0;        ///< faces thinner than the decimation's needle bounds it left
   std::size_t overlay_flipped = 0, overlay_intersecting = 0; ///< the strict figures of the decimated overlay
   unsigned smoothing_rounds = 0, refinement_rounds = 0;
   double tolerance = 0;              ///< ε, percent
@@ -437,6 +439,7 @@ private:
     const std::size_t flipped = rep.flipped_after, intersecting = rep.intersecting_after;
     stats_.overlay_collapses = d.collapses;
     stats_.overlay_work_bound_reached = d.work_bound_reached;
+    stats_.overlay_needles_removed = d.needle_collapses, stats_.overlay_needles_left = d.needles_left;
     stats_.overlay_flipped = flipped, stats_.overlay_intersecting = intersecting;
     stats_.seconds_overlay = sec(ts, clock::now());
     say("remesh: overlay decimated to " + std::to_string(o.mesh.m.number_of_vertices()) + " vertices (" +
@@ -444,7 +447,9 @@ private:
         std::to_string(d.refused_valence) + " valence, " + std::to_string(d.refused_link) + " link, " + std::to_string(d.refused_source) + " source, " +
         std::to_string(d.refused_needle) + " needle, " + std::to_string(d.refused_distance) + " distance, " +
         std::to_string(d.refused_normal) + " normal, " + std::to_string(d.refused_crease) + " crease, " + std::to_string(d.refused_coverage) + " coverage of the target, " +
-        std::to_string(d.refused_intersection) + " intersection; " + std::to_string(d.face_pairs) + " face pairs tested" + (d.work_bound_reached ? ", stopped at its work bound" : "") + "); then " + std::to_string(rep.flipped_before) + " flipped and " +
+        std::to_string(d.refused_intersection) + " intersection; " + std::to_string(d.face_pairs) + " face pairs tested" + (d.work_bound_reached ? ", stopped at its work bound" : "") + "; " +
+        std::to_string(d.needles_found) + " needles, " + std::to_string(d.needle_collapses) + " collapsed by the needle removal, " +
+        std::to_string(d.needles_left) + " left); then " + std::to_string(rep.flipped_before) + " flipped and " +
         std::to_string(rep.intersecting_before) + " intersecting faces, " + std::to_string(flipped) + " and " +
         std::to_string(intersecting) + " after the strict repair (" + std::to_string(rep.splits) + " vertices added); " +
         fmt(stats_.seconds_overlay) + " s in all");

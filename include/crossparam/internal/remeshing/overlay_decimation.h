@@ -74,6 +74,18 @@ constexpr double home_border = 1e-3;
 /// test and its intersections would be decided by noise.
 constexpr double decimation_min_shape = 1e-6;
 
+/// Smallest height of a face of the target-shaped mesh (twice its area over its longest edge), as a fraction of
+/// the tolerance ε, below which it is a needle too, whatever its shape. The overlay makes faces whose edges are
+/// 10⁻¹³ of the mesh's size where the map sends many target edges through nearly one point (eiffel_g4): there
+/// the output's coordinates, rounded after the conversion to input coordinates (about 10⁻¹⁶ of the
+/// coordinates' size), decide the normal. 10⁻⁶ ε is far below anything the tolerance can see (10⁻⁹ of the
+/// diagonal at ε = 0.1 %) and far above that rounding.
+constexpr double decimation_min_height = 1e-6;
+
+/// Passes of the needle removal (Overlay_decimator::remove_needles()) at most; each pass tries every needle
+/// once and the passes end when one removes nothing (on the bench and the genus cases the second or third).
+constexpr unsigned needle_removal_passes = 16;
+
 /// Largest valence a collapse may give the vertex it keeps. The overlay has fans (a vertex of the source
 /// facing an edge that many target edges cross); collapsing onto a fan's apex only makes longer, thinner faces,
 /// and every new face there must be tested against all the apex's faces. The fans thin out as the crossings
@@ -106,6 +118,9 @@ struct Decimation_result {
   std::size_t refused_coverage = 0;     ///< a point of the target would be too far from the new faces
   std::size_t refused_intersection = 0; ///< a new face would intersect the target-shaped mesh
   std::size_t face_pairs = 0;           ///< pairs of a new face and a face whose box meets it, tested for intersection
+  std::size_t needles_found = 0;        ///< needles (decimation_min_shape, decimation_min_height) when the needle removal began
+  std::size_t needle_collapses = 0;     ///< collapses of the needle removal (counted in `collapses` too)
+  std::size_t needles_left = 0;         ///< needles when it ended
   bool work_bound_reached = false;      ///< whether it stopped at decimation_work
 };
 
@@ -182,10 +197,55 @@ public:
         break;
       }
     }
+    remove_needles(r);
     return r;
   }
 
 private:
+  /// The needle removal, after the decimation: the needles it could not collapse (a collapse there makes new
+  /// needles, or gives a fan's apex too many neighbours) are what the overlay leaves where the map sends many
+  /// target edges through nearly one point, faces of 10⁻¹² of the mesh's size whose normals, once the points
+  /// are rounded, point anywhere. Each needle's edges, shortest first, both ways, are tried with the checks of
+  /// test() and three changes (`needle_mode_`): any valence; a new face may be a needle if the collapse leaves
+  /// fewer needles than its star had (not collinear: the exact tests need a plane); and a needle's normal is
+  /// not compared with the target's (it is rounding), its distance still is. Every collapse removes a vertex,
+  /// so the passes end; at most needle_removal_passes.
+  void remove_needles(Decimation_result& r) {
+    needle_mode_ = true;
+    auto needles = [this] {
+      std::vector<WF> out;
+      for (WF f : m.faces())
+        if (needle(corners(f))) out.push_back(f);
+      return out;
+    };
+    std::vector<WF> todo = needles();
+    r.needles_found = todo.size();
+    for (unsigned pass = 0; pass < needle_removal_passes && !todo.empty(); ++pass) {
+      if (s.budget.stop("the remeshing's needle removal", [&] { return std::to_string(todo.size()) + " needles left"; })) break;
+      std::size_t kept = 0;
+      for (WF f : todo) {
+        if (m.is_removed(f) || !needle(corners(f))) continue; // removed or reshaped by an earlier collapse
+        std::vector<std::pair<double, WH>> tries;
+        for (WH h : CGAL::halfedges_around_face(m.halfedge(f), m))
+          for (WH g : {h, m.opposite(h)})
+            if (removable(m.source(g))) tries.push_back({CGAL::squared_distance(s.pos[m.source(g)], s.pos[m.target(g)]), g});
+        std::stable_sort(tries.begin(), tries.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+        for (const auto& t : tries) {
+          ++r.tried;
+          Plan plan;
+          if (!test(t.second, plan, r)) continue;
+          apply(t.second, plan);
+          ++r.collapses, ++r.needle_collapses, ++kept;
+          break;
+        }
+      }
+      todo = needles();
+      if (kept == 0) break;
+    }
+    r.needles_left = todo.size();
+    needle_mode_ = false;
+  }
+
   /// The faces a collapse makes: corners (u replaced by w), the input source face holding each.
   struct Plan {
     std::vector<std::array<WV, 3>> faces;
@@ -209,26 +269,33 @@ private:
   /// Whether collapsing halfedge h (u = source, removed, onto w = target) passes every check; fills `plan`.
   bool test(WH h, Plan& plan, Decimation_result& r) {
     const WV u = m.source(h), w = m.target(h);
-    if (m.degree(u) + m.degree(w) - 4 > decimation_max_valence) return ++r.refused_valence, false;
+    if (!needle_mode_ && m.degree(u) + m.degree(w) - 4 > decimation_max_valence) return ++r.refused_valence, false;
     if (!CGAL::Euler::does_satisfy_link_condition(m.edge(h), m)) return ++r.refused_link, false;
     // The star of u: its faces, those with w go away, the others get w for u.
     std::vector<WF> star;
     for (WF f : CGAL::faces_around_target(m.halfedge(u), m)) star.push_back(f);
     // First what is cheap: w must lie on every input face that u's faces lie in (u on an input edge can only
-    // move along it), and no new face may be a needle.
+    // move along it), and no new face may be a needle (in the needle removal: fewer needles than before).
     std::array<double, 3> b;
     for (WF f : star)
       if (!s.mesh.rep_in(w, s.mesh.forig[f], b)) return ++r.refused_source, false;
     std::vector<WF> replaced; // per new face: the face of the star it replaces
+    std::size_t needles_before = 0, needles_after = 0;
+    if (needle_mode_)
+      for (WF f : star) needles_before += needle(corners(f));
     for (WF f : star) {
       std::array<WV, 3> c = corners(f);
       if (c[0] == w || c[1] == w || c[2] == w) continue;
       for (WV& x : c)
         if (x == u) x = w;
-      if (needle(c)) return ++r.refused_needle, false;
+      if (needle(c)) {
+        if (!needle_mode_ || CGAL::collinear(s.pos[c[0]], s.pos[c[1]], s.pos[c[2]])) return ++r.refused_needle, false;
+        ++needles_after;
+      }
       plan.faces.push_back(c);
       replaced.push_back(f);
     }
+    if (needles_after > 0 && needles_after >= needles_before) return ++r.refused_needle, false;
     // The source: each new face in an input face that held a face of the star, oriented as there.
     for (const auto& c : plan.faces) {
       int found = -1;
@@ -355,15 +422,17 @@ private:
   }
 
   enum class Follow { yes, far, steep };
-  /// Whether the triangle with corners c on the target-shaped mesh is a needle (decimation_min_shape).
+  /// Whether the triangle with corners c on the target-shaped mesh is a needle: its area below
+  /// decimation_min_shape times its longest edge squared, or its height below decimation_min_height ε.
   bool needle(const std::array<WV, 3>& c) const {
     const Point_3 &a = s.pos[c[0]], &b = s.pos[c[1]], &d = s.pos[c[2]];
     const double len2 = std::max({CGAL::squared_distance(a, b), CGAL::squared_distance(b, d), CGAL::squared_distance(d, a)});
-    const double n2 = triangle_normal(a, b, d).squared_length();
-    return !(n2 > 0) || !(std::sqrt(n2) > 2 * decimation_min_shape * len2); // |n| = 2 area
+    const double n2 = triangle_normal(a, b, d).squared_length(); // |n| = 2 area = height × longest edge
+    const double min_height = decimation_min_height * s.eps;
+    return !(n2 > 0) || !(std::sqrt(n2) > 2 * decimation_min_shape * len2) || !(n2 > min_height * min_height * len2);
   }
-  /// Whether the triangle of the target-shaped mesh with corners `corner` (not a needle: test() checked)
-  /// follows the target: at its centroid (`centroid_only`) or at its nine other samples (the edge midpoints and
+  /// Whether the triangle of the target-shaped mesh with corners `corner` (not a needle, but in the needle
+  /// removal, where a needle's normal is not compared) follows the target: at its centroid (`centroid_only`) or at its nine other samples (the edge midpoints and
   /// the points at the thirds of the edges) within the margin of the target, its normal within the normal
   /// deviation of the target's at the nearest point (at the centroid) or within decimation_sample_deviation
   /// times that; and then every point of it within the margin, certified (certified_within()).
@@ -371,12 +440,14 @@ private:
     const Point_3 &a = s.pos[corner[0]], &b = s.pos[corner[1]], &c = s.pos[corner[2]];
     const Kernel::Vector_3 n = triangle_normal(a, b, c);
     const double ln = std::sqrt(n.squared_length());
+    const bool thin = needle_mode_ && needle(corner); // its normal is rounding
     // Each query starts from the last one's answer (the first from the first corner's own place on the
     // target): the samples are close together, so the search ends sooner; the answer is the nearest point.
     std::pair<Point_3, WF> near{a, s.img[corner[0]].face};
     auto check = [&](const Point_3& p, double cos_bound) {
       near = tree.closest_point_and_primitive(p, near);
       if (CGAL::squared_distance(p, near.first) > limit2_) return Follow::far;
+      if (thin) return Follow::yes;
       const Kernel::Vector_3 nt = s.target_normal(near.second);
       const double lt = std::sqrt(nt.squared_length());
       return lt > 0 && (n * nt) >= cos_bound * ln * lt ? Follow::yes : Follow::steep;
@@ -386,7 +457,7 @@ private:
       // or vertex (above a ridge it is), against every target face there, so that the strict repair that
       // follows has nothing of the decimation's to undo.
       const Follow f = check(CGAL::centroid(a, b, c), cos_dev_);
-      return f == Follow::yes && s.opposes(n, near.first, near.second) ? Follow::steep : f;
+      return f == Follow::yes && !thin && s.opposes(n, near.first, near.second) ? Follow::steep : f;
     }
     auto at = [](const Point_3& p, const Point_3& q, double t) { return p + t * (q - p); };
     for (const Point_3& p : {CGAL::midpoint(a, b), CGAL::midpoint(b, c), CGAL::midpoint(c, a), at(a, b, 1.0 / 3),
@@ -543,7 +614,7 @@ private:
       for (int j = 0; j < 3; ++j)
         if (c[i] == d[j]) ++shared, ci = i, di = j;
     const auto P = [&](WV v) -> const Point_3& { return s.pos[v]; };
-    if (d_degenerate) return false; // the verifier counts a degenerate face; new faces are not (no needles)
+    if (d_degenerate) return false; // the verifier counts a degenerate face; new faces are never collinear (test())
     // First in floating point: the corners of one face that it does not share, all strictly on one side of the
     // other's plane by far more than rounding, cannot meet the other face (but at a shared corner). Only the
     // faces this does not settle (near each other's planes) go to the exact predicates.
@@ -710,6 +781,7 @@ private:
   std::vector<std::array<WV, 3>> target_corners_; ///< per target face: its corners
   std::vector<std::uint64_t> stamp_;    ///< per face: the test that last excluded it
   std::uint64_t current_ = 0;
+  bool needle_mode_ = false; ///< in remove_needles()
 };
 
 /// Removes the elements that collapses left in `s.mesh` and renumbers the per-vertex records to match (the
