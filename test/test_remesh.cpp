@@ -539,7 +539,8 @@ TEST(RemeshOverlay, ValidByConstructionAtEveryTolerance) {
       const std::string at = q.name + " at " + std::to_string(tol) + " %";
       const Outcome o = remesh_and_verify(q.a, q.b, q.f, tol, Remeshing_construction::overlay);
       std::cout << "[ overlay ] " << at << ": overlay " << o.stats.overlay_vertices << " vertices, "
-                << o.stats.overlay_collapses << " collapses, " << o.stats.output_vertices << " left, Hausdorff "
+                << o.stats.overlay_collapses << " collapses (" << o.stats.overlay_needles_removed << " by the needle removal, "
+                << o.stats.overlay_needles_left << " needles left), " << o.stats.output_vertices << " left, Hausdorff "
                 << o.check.hausdorff_target << " %; " << (o.check.valid ? "valid" : "NOT valid: " + o.check.message) << "\n";
       EXPECT_TRUE(o.stats.overlay_used) << at;
       EXPECT_TRUE(o.stats.overlay_complete) << at;
@@ -555,6 +556,8 @@ TEST(RemeshOverlay, ValidByConstructionAtEveryTolerance) {
       EXPECT_TRUE(o.check.valid) << at << ": " << o.check.message;
       EXPECT_GT(o.stats.overlay_collapses, 0u) << at;
       EXPECT_LT(o.stats.output_vertices, o.stats.overlay_vertices) << at;
+      // No face thinner than the decimation's needle bounds is left (their normals would be rounding).
+      EXPECT_EQ(o.stats.overlay_needles_left, 0u) << at;
       vertices[t] = o.stats.output_vertices;
     }
     // Tighter tolerances keep more vertices, and ten times tighter at most ten times as many: a linear
