@@ -7,7 +7,7 @@
 // the maps: the distance of each landmark's image from its true position, in units of the square root of the
 // mesh's area. Prints a Markdown table.
 //
-//   bench_multi [CASE_DIR] [TOLERANCE_PERCENT] [MESH_COUNTS]      (MESH_COUNTS default "3,5")
+//   bench_multi [CASE_DIR] [TOLERANCE_PERCENT] [MESH_COUNTS] [automatic|refinement|overlay]   (MESH_COUNTS default "3,5")
 #include <crossparam/io.h>
 #include <crossparam/multi_remeshing.h>
 #include <crossparam/remeshing_verification.h>
@@ -50,7 +50,7 @@ std::string fmt(double x, int digits = 3) {
   return s.str();
 }
 
-void run(const fs::path& dir, std::size_t n, double tolerance) {
+void run(const fs::path& dir, std::size_t n, double tolerance, Remeshing_construction construction) {
   std::vector<Surface_mesh> meshes(n);
   std::size_t largest = 0;
   for (std::size_t m = 0; m < n; ++m) {
@@ -59,7 +59,8 @@ void run(const fs::path& dir, std::size_t n, double tolerance) {
   }
   const Multi_feature_correspondence features = read_columns((dir / "features.txt").string(), n);
   const Multi_feature_correspondence landmarks = read_columns((dir / "truth" / "landmarks_eval.txt").string(), n);
-  const Multi_remesher<Surface_mesh> r(meshes, features, crossparam::parameters::tolerance(tolerance));
+  const Multi_remesher<Surface_mesh> r(meshes, features,
+                                       crossparam::parameters::tolerance(tolerance, crossparam::parameters::remeshing_construction(construction)));
   const Multi_remeshing_statistics& S = r.statistics();
   // One face list: the outputs as files, read back.
   const fs::path tmp = fs::temp_directory_path() / ("crossparam_bench_multi_" + std::to_string(n));
@@ -122,7 +123,15 @@ int main(int argc, char** argv) try {
   }
   std::cout << "## N-way common connectivity: " << dir.filename().string() << "\n";
   std::stringstream counts(argc > 3 ? argv[3] : "3,5");
-  for (std::string n; std::getline(counts, n, ',');) run(dir, std::stoul(n), tolerance);
+  // Optional fourth argument: how each two-mesh remeshing builds its target-shaped mesh.
+  Remeshing_construction construction = Remeshing_construction::automatic;
+  if (argc > 4) {
+    const std::string c = argv[4];
+    if (c == "overlay") construction = Remeshing_construction::overlay;
+    else if (c == "refinement") construction = Remeshing_construction::refinement;
+    else if (c != "automatic") throw std::invalid_argument("construction must be automatic, refinement or overlay");
+  }
+  for (std::string n; std::getline(counts, n, ',');) run(dir, std::stoul(n), tolerance, construction);
   return 0;
 } catch (const std::exception& e) {
   std::cerr << "bench_multi: " << e.what() << "\n";

@@ -285,6 +285,43 @@ TEST(MultiRemesh, CommonRefinementOfTwoSubdivisions) {
   }
 }
 
+// An edge that is within rounding of zero length on the source but not on a remeshing's target-shaped mesh (as
+// a remeshing built from the map's overlay has where the map squeezes a stretch of the target into nearly one
+// point of the source) keeps its two ends: merging them would cut that stretch out of the output. The same
+// edge short on both is merged.
+TEST(MultiRemesh, CommonRefinementMergesOnlyNeedlesOfEveryOutput) {
+  const std::vector<std::array<double, 3>> src{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  const std::array<double, 3> A{1, 0, 0}, B{0, 1, 0}, C{0, 0, 1};
+  const std::array<double, 3> p1{0.4, 0.3, 0.3}, p2{0.4 - 2e-12, 0.3 + 1e-12, 0.3 + 1e-12}; // 1.4e-12 apart
+  auto location = [&](std::array<std::array<double, 3>, 3> c) {
+    Input_face_location l;
+    l.face = 0;
+    l.vertices = {0, 1, 2};
+    l.corners = c;
+    return l;
+  };
+  // Split at p1, then the face (B, C, p1) at p2 (vertices 0-2 the corners, 3 = p1, 4 = p2).
+  const std::vector<std::array<std::size_t, 3>> f{{0, 1, 3}, {2, 0, 3}, {1, 2, 4}, {2, 3, 4}, {3, 1, 4}};
+  const std::vector<Input_face_location> l{location({A, B, p1}), location({C, A, p1}), location({B, C, p2}),
+                                           location({C, p1, p2}), location({p1, B, p2})};
+  for (const double spike : {0.5, 0.0}) {
+    const std::vector<std::array<double, 3>> t{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.3, 0.3, 0}, {0.3 + 1e-12, 0.3 + 1e-12, spike}};
+    const std::vector<internal::Fitted_remeshing> fits{{&f, &l, &t}};
+    const internal::Common_refinement c = internal::Common_refinement_builder(src, 1, fits).result();
+    if (spike > 0) {
+      EXPECT_EQ(c.merged_needles, 0u);
+      ASSERT_EQ(c.source_points.size(), 5u);
+      EXPECT_EQ(c.faces.size(), 5u);
+      EXPECT_EQ(c.images[0][3], t[3]);
+      EXPECT_EQ(c.images[0][4], t[4]); // the spike's tip is still there
+    } else {
+      EXPECT_EQ(c.merged_needles, 1u);
+      EXPECT_EQ(c.source_points.size(), 4u);
+      EXPECT_EQ(c.faces.size(), 3u);
+    }
+  }
+}
+
 // Three meshes to one connectivity: every output verified against its own input by the independent verifier
 // (one face list, Hausdorff within the tolerance, no flipped face), the source's vertices reproduced exactly.
 TEST(MultiRemesh, ThreeSpheres) {

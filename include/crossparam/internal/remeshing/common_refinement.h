@@ -82,6 +82,7 @@ public:
       for (std::size_t g = 0; g < r_[j].faces->size(); ++g) by_face_[j].at((*r_[j].locations)[g].face).push_back(g);
     }
     out_.images.resize(r_.size());
+    for (std::size_t j = 0; j < r_.size(); ++j) image_side_.push_back(longest_side(*r_[j].target_points));
     // The source's vertices keep their indices: every remeshing starts with them, in input order.
     for (std::size_t v = 0; v < src_.size(); ++v) new_vertex(src_[v]);
     for (std::size_t j = 0; j < r_.size(); ++j)
@@ -191,12 +192,32 @@ private:
   /// the opposite edge (two remeshings computed the same point of a shared edge with different roundings). Its
   /// normal on the outputs, computed from rounded coordinates, would be noise (angles of rounding / share, here
   /// 1e-6 rad at most); the cap's longest edge is flipped, which moves nothing: the vertex is then on the
-  /// edge, as meant.
+  /// edge, as meant. A triangle is a cap when it is one on the source and on every remeshing's target-shaped
+  /// mesh (there, its vertex within this share of the edge's length, or within needle_share of the mesh's
+  /// diagonal, of the edge): a flip where the vertex is off the edge on some output would fold that output.
   static constexpr double cap_height_share = 1e-10;
 
+  /// Whether vertex v lies within rounding of the segment (p, w) on every remeshing's target-shaped mesh.
+  bool on_segment_in_every_image(std::size_t v, std::size_t p, std::size_t w) {
+    for (std::size_t j = 0; j < out_.images.size(); ++j) {
+      const auto& P = out_.images[j][find(p)];
+      const auto& W = out_.images[j][find(w)];
+      const auto& V = out_.images[j][find(v)];
+      std::array<double, 3> d, x;
+      double dd = 0, t = 0;
+      for (int k = 0; k < 3; ++k) d[k] = W[k] - P[k], x[k] = V[k] - P[k], dd += d[k] * d[k], t += d[k] * x[k];
+      t = dd > 0 ? std::clamp(t / dd, 0.0, 1.0) : 0.0;
+      double h2 = 0;
+      for (int k = 0; k < 3; ++k) h2 += (x[k] - t * d[k]) * (x[k] - t * d[k]);
+      const double h = std::sqrt(h2), bound = std::max(cap_height_share * std::sqrt(dd), needle_share * image_side_[j]);
+      if (!(h <= bound)) return false;
+    }
+    return true;
+  }
+
   /// Flips the longest edge of every cap whose flip leaves both new triangles positive (exact orientation
-  /// tests). Returns the number of flips.
-  static std::size_t flip_caps(CDT& cdt) {
+  /// tests). `local`: the output vertex of each triangulation vertex. Returns the number of flips.
+  std::size_t flip_caps(CDT& cdt, const std::vector<Local>& local) {
     // One flip at a time (a flip changes the faces around it), at most a few per face: each flip removes a cap
     // and makes two triangles of which at most one is a cap again.
     const std::size_t limit = 4 * cdt.number_of_faces();
@@ -224,6 +245,7 @@ private:
         if (CGAL::orientation(v->point(), p->point(), r->point()) != CGAL::LEFT_TURN ||
             CGAL::orientation(v->point(), r->point(), w->point()) != CGAL::LEFT_TURN)
           continue;
+        if (!on_segment_in_every_image(local[v->info().i].id, local[p->info().i].id, local[w->info().i].id)) continue;
         cdt.tds().flip(t, i);
         flipped = true;
       }
@@ -361,7 +383,7 @@ private:
       v->info().i = local.size();
       local.push_back({id, b});
     }
-    out_.flipped_caps += flip_caps(cdt);
+    out_.flipped_caps += flip_caps(cdt, local);
     for (auto t = cdt.finite_faces_begin(); t != cdt.finite_faces_end(); ++t) {
       std::array<Local, 3> c;
       for (int i = 0; i < 3; ++i) c[i] = local[t->vertex(i)->info().i];
@@ -369,33 +391,45 @@ private:
     }
   }
 
-  /// An edge shorter than this share of the source's bounding-box diagonal is a needle: two points within
-  /// rounding of each other (a crossing of two constraints next to a vertex, or one point given by two
-  /// remeshings with different roundings). Normals computed across it would be noise (rounding / share, below
-  /// 1e-6 rad), so its ends are merged.
+  /// An edge shorter than this share of the bounding-box diagonal, on the source and on every remeshing's
+  /// target-shaped mesh (each against its own diagonal), is a needle: two points within rounding of each other
+  /// on every output (a crossing of two constraints next to a vertex, or one point given by two remeshings with
+  /// different roundings). Normals computed across it would be noise (rounding / share, below 1e-6 rad), so
+  /// its ends are merged. An edge short on the source alone is kept: a remeshing built from the map's overlay
+  /// has such edges where the map sends a stretch of the target through nearly one point of the source, and
+  /// merging their ends would cut that stretch out of the output.
   static constexpr double needle_share = 1e-10;
+
+  /// The longest side of the bounding box of `points` (no overflow at any scale).
+  static double longest_side(const std::vector<std::array<double, 3>>& points) {
+    std::array<double, 3> lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    for (const auto& p : points)
+      for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+    double d = 0;
+    for (int k = 0; k < 3; ++k) d = std::max(d, hi[k] - lo[k]);
+    return d;
+  }
 
   /// Merges the ends of every needle whose collapse keeps the mesh manifold (the link condition: the vertices
   /// next to both ends are exactly the apexes of the edge's two faces). The lower index stays: source vertices
   /// first, so the source's own vertices never move.
   void merge_needles() {
-    std::array<double, 3> lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-    for (const auto& p : src_)
-      for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
-    double diag = 0;
-    for (int k = 0; k < 3; ++k) diag = std::max(diag, hi[k] - lo[k]); // the longest side: no overflow
-    const double limit = needle_share * diag;
-    auto length = [&](std::size_t a, std::size_t b) {
-      const auto& p = out_.source_points[a];
-      const auto& q = out_.source_points[b];
+    const double limit = needle_share * longest_side(src_);
+    auto length = [](const std::vector<std::array<double, 3>>& points, std::size_t a, std::size_t b) {
       double m = 0;
-      for (int k = 0; k < 3; ++k) m = std::max(m, std::abs(p[k] - q[k]));
+      for (int k = 0; k < 3; ++k) m = std::max(m, std::abs(points[a][k] - points[b][k]));
       return m;
+    };
+    auto needle = [&](std::size_t a, std::size_t b) {
+      if (!(length(out_.source_points, a, b) < limit)) return false;
+      for (std::size_t j = 0; j < out_.images.size(); ++j)
+        if (!(length(out_.images[j], a, b) < needle_share * image_side_[j])) return false;
+      return true;
     };
     std::vector<std::pair<std::size_t, std::size_t>> needles;
     for (const auto& t : out_.faces)
       for (int c = 0; c < 3; ++c)
-        if (length(t[c], t[(c + 1) % 3]) < limit) needles.push_back({t[c], t[(c + 1) % 3]});
+        if (needle(t[c], t[(c + 1) % 3])) needles.push_back({t[c], t[(c + 1) % 3]});
     if (needles.empty()) return;
     std::vector<std::vector<std::size_t>> faces_of(parent_.size());
     for (std::size_t g = 0; g < out_.faces.size(); ++g)
@@ -473,6 +507,7 @@ private:
   std::map<std::tuple<std::size_t, std::size_t, double, double>, std::size_t> edge_points_; ///< vertex + 1
   std::map<std::tuple<std::size_t, double, double, double>, std::size_t> face_points_;      ///< vertex + 1
   std::vector<std::size_t> parent_;
+  std::vector<double> image_side_; ///< per remeshing: the longest side of its target-shaped mesh's bounding box
   Common_refinement out_;
 };
 
