@@ -44,6 +44,12 @@ namespace internal {
 /// a face a million times thinner than its neighbours, whose normal rounding decides.
 constexpr double conform_snap = 1e-6;
 
+/// Share of the tolerance ε by which a snap (see conform_snap) may move a target vertex on the target, whatever
+/// the target's edges there: a hundredth, a small part of the tenth of ε that the decimation leaves beside the
+/// 0.9 ε it certifies (decimation_margin). A larger move is taken only if it is within conform_snap of the
+/// shortest target edge at the vertex.
+constexpr double overlay_snap_share = 0.01;
+
 /// Distance in the base mesh's frames (whose triangles have edges of length about 1) below which a point is
 /// on a line whatever the length of the edge it ends: a hundred times the rounding of coordinates near 1, so
 /// that two points computed on one target edge in different frames are on it together.
@@ -122,7 +128,7 @@ public:
         std::array<double, 3> b;
         const int where = inside(f, tv, b);
         if (where > 0) {
-          rv[tv] = place(f, b, r);
+          rv[tv] = place(f, b, tv, r);
           break;
         }
         if (visited.size() < overlay_walk_faces) {
@@ -144,7 +150,7 @@ public:
           const double mn = std::min({b[0], b[1], b[2]});
           if (mn > best_min) best_min = mn, best = f, bb = b;
         }
-        if (best != WF() && best_min > -conform_snap) rv[tv] = place(best, bb, r);
+        if (best != WF() && best_min > -conform_snap) rv[tv] = place(best, bb, tv, r);
       }
     }
     // Target edges, each made a chain of M_s's edges: by flips where M_s allows them, by splits at the
@@ -212,11 +218,16 @@ public:
 
 
 private:
-  /// The vertex of M_s that a target vertex at barycentrics b of face f (inside it, or outside by less than
+  /// The vertex of M_s that target vertex tv at barycentrics b of face f (inside it, or outside by less than
   /// conform_snap) becomes: the corner of f it is at (two coordinates within conform_snap of zero), a new vertex
-  /// on the edge it is on (one) or inside f (none). If the exact test refuses the split or insert, the corner
-  /// nearest to it, counted as refused.
-  WV place(WF f, std::array<double, 3> b, Overlay_result& r) {
+  /// on the edge it is on (one) or inside f (none). A snap to a corner or an edge moves the vertex on the
+  /// target, to the image of the corner or of the point of the edge, and is taken only if that move is within
+  /// overlay_snap_share ε, or within conform_snap of the shortest target edge at tv: where the map squeezes a
+  /// part of the target into nearly one point of the source (a leg's tip), coordinates that small stand for
+  /// distances on the target that the output must keep, and the vertex is inserted where it is (on an edge or
+  /// at a corner only where its coordinates are exactly zero). If the exact test refuses the split or insert,
+  /// the corner nearest to it, counted as refused.
+  WV place(WF f, std::array<double, 3> b, WV tv, Overlay_result& r) {
     const auto& m = s.mesh.m;
     for (double& x : b) x = std::max(x, 0.0);
     const double sum = b[0] + b[1] + b[2];
@@ -226,12 +237,31 @@ private:
     int zero = -1, small = 0;
     for (int k = 0; k < 3; ++k)
       if (!(b[k] > conform_snap)) zero = k, ++small;
+    const bool snap_kept = small >= 2 ? snap_keeps_target(s.pos[nearest], tv)
+                           : small == 1 ? snap_keeps_target(s.corner_at(s.param.between(fv[(zero + 1) % 3], fv[(zero + 2) % 3], b[(zero + 2) % 3])).pos, tv)
+                                        : true;
+    if (!snap_kept) {
+      small = 0;
+      for (int k = 0; k < 3; ++k)
+        if (b[k] == 0) zero = k, ++small;
+      if (small >= 2) return ++r.refused, nearest; // at the corner exactly, but not there on the target
+    }
     if (small >= 2) return nearest;
     const std::size_t n0 = m.number_of_vertices();
     const bool done = small == 0 ? s.insert(f, b) : s.split(fv[(zero + 1) % 3], fv[(zero + 2) % 3], b[(zero + 2) % 3]);
     if (!done) return ++r.refused, nearest;
     for (std::size_t i = n0; i < m.number_of_vertices(); ++i) r.made.push_back(WV(WV::size_type(i)));
     return WV(WV::size_type(m.number_of_vertices() - 1));
+  }
+  /// Whether snapping target vertex tv to a point of M_s whose image is `image` moves it on the target by at
+  /// most overlay_snap_share ε or conform_snap times the shortest target edge at tv.
+  bool snap_keeps_target(const Point_3& image, WV tv) const {
+    const auto& tm = s.target.m;
+    const Point_3& p = tm.point(tv);
+    double shortest = HUGE_VAL;
+    for (WH h : CGAL::halfedges_around_target(tm.halfedge(tv), tm))
+      shortest = std::min(shortest, std::sqrt(CGAL::squared_distance(p, tm.point(tm.source(h)))));
+    return std::sqrt(CGAL::squared_distance(p, image)) <= std::max(conform_snap * shortest, overlay_snap_share * s.eps);
   }
 
   struct Crossing {
