@@ -1,11 +1,15 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Shared by the benchmark programs: finding the bench cases and saying how the build was made.
+// Shared by the benchmark programs: finding the bench cases, saying how the build was made, reading the
+// construction flag.
 #ifndef CROSSPARAM_BENCH_COMMON_H
 #define CROSSPARAM_BENCH_COMMON_H
+
+#include <crossparam/parameters.h>
 
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
+#include <string>
 #include <vector>
 
 namespace bench {
@@ -30,6 +34,13 @@ inline const char* assertions() {
 #else
   return "on";
 #endif
+}
+
+/// Whether `arg` is --construction=refinement or --construction=overlay; if so, sets `c`.
+inline bool construction_flag(const std::string& arg, crossparam::Remeshing_construction& c) {
+  if (arg == "--construction=refinement") return c = crossparam::Remeshing_construction::refinement, true;
+  if (arg == "--construction=overlay") return c = crossparam::Remeshing_construction::overlay, true;
+  return false;
 }
 
 } // namespace bench

@@ -7,10 +7,13 @@
 // the maps: the distance of each landmark's image from its true position, in units of the square root of the
 // mesh's area. Prints a Markdown table.
 //
-//   bench_multi [CASE_DIR] [TOLERANCE_PERCENT] [MESH_COUNTS] [automatic|refinement|overlay]   (MESH_COUNTS default "3,5")
+//   bench_multi [CASE_DIR] [TOLERANCE_PERCENT] [MESH_COUNTS] [--construction=refinement|overlay]
+//   (MESH_COUNTS default "3,5"; the construction of each two-mesh remeshing, automatic by default)
 #include <crossparam/io.h>
 #include <crossparam/multi_remeshing.h>
 #include <crossparam/remeshing_verification.h>
+
+#include "bench_common.h"
 
 #include <CGAL/Polygon_mesh_processing/measure.h>
 
@@ -114,7 +117,13 @@ void run(const fs::path& dir, std::size_t n, double tolerance, Remeshing_constru
 
 } // namespace
 
-int main(int argc, char** argv) try {
+int main(int argc_given, char** argv_given) try {
+  Remeshing_construction construction = Remeshing_construction::automatic;
+  std::vector<char*> args;
+  for (int i = 0; i < argc_given; ++i)
+    if (!bench::construction_flag(argv_given[i], construction)) args.push_back(argv_given[i]);
+  const int argc = int(args.size());
+  char** argv = args.data();
   const fs::path dir = argc > 1 ? fs::path(argv[1]) : fs::path(CROSSPARAM_SHARED_DIR) / "bench_multi" / "fourleg5";
   const double tolerance = argc > 2 ? std::stod(argv[2]) : 0.5;
   if (!fs::exists(dir / "features.txt")) {
@@ -123,14 +132,6 @@ int main(int argc, char** argv) try {
   }
   std::cout << "## N-way common connectivity: " << dir.filename().string() << "\n";
   std::stringstream counts(argc > 3 ? argv[3] : "3,5");
-  // Optional fourth argument: how each two-mesh remeshing builds its target-shaped mesh.
-  Remeshing_construction construction = Remeshing_construction::automatic;
-  if (argc > 4) {
-    const std::string c = argv[4];
-    if (c == "overlay") construction = Remeshing_construction::overlay;
-    else if (c == "refinement") construction = Remeshing_construction::refinement;
-    else if (c != "automatic") throw std::invalid_argument("construction must be automatic, refinement or overlay");
-  }
   for (std::string n; std::getline(counts, n, ',');) run(dir, std::stoul(n), tolerance, construction);
   return 0;
 } catch (const std::exception& e) {

@@ -87,11 +87,7 @@ int main(int argc_given, char** argv_given) {
   for (int i = 0; i < argc_given; ++i)
     if (std::string(argv_given[i]) == "--straighten-paths")
       straighten = true;
-    else if (std::string(argv_given[i]) == "--construction=refinement")
-      construction = Remeshing_construction::refinement;
-    else if (std::string(argv_given[i]) == "--construction=overlay")
-      construction = Remeshing_construction::overlay;
-    else
+    else if (!bench::construction_flag(argv_given[i], construction))
       args.push_back(argv_given[i]);
   const int argc = int(args.size());
   char** argv = args.data();
