@@ -568,6 +568,32 @@ TEST(RemeshOverlay, ValidByConstructionAtEveryTolerance) {
   }
 }
 
+// How the overlay classifies a target edge (c, d) against an edge (a, z) of the remeshed source, in a frame of
+// the base mesh: a crossing within conform_snap (10^-6, relative to |z - a|) of an end is reported at that
+// end, so that the overlay can ask whether the end's image lies on the target edge on the target too (where
+// the map squeezes the target it need not, and the edge is split there instead); an edge that runs along the
+// target edge, both ends that near its line, is not crossed.
+TEST(RemeshOverlay, CrossingsNearAnEndAreReportedAtThatEnd) {
+  using crossparam::internal::Overlay_crossing;
+  using crossparam::internal::overlay_crossing;
+  using P2 = crossparam::internal::Point_2;
+  const P2 a(0, 0), z(1, 0);
+  double t = -1;
+  EXPECT_EQ(overlay_crossing(a, z, P2(0.25, -1), P2(0.25, 1), t), Overlay_crossing::inside);
+  EXPECT_NEAR(t, 0.25, 1e-15);
+  EXPECT_EQ(overlay_crossing(a, z, P2(1e-8, -1), P2(1e-8, 1), t), Overlay_crossing::at_first);
+  EXPECT_NEAR(t, 1e-8, 1e-20);
+  EXPECT_EQ(overlay_crossing(a, z, P2(1 - 1e-9, 1), P2(1 - 1e-9, -1), t), Overlay_crossing::at_second);
+  EXPECT_NEAR(t, 1 - 1e-9, 1e-15);
+  // Twice the snap distance is an ordinary crossing.
+  EXPECT_EQ(overlay_crossing(a, z, P2(2e-6, -1), P2(2e-6, 1), t), Overlay_crossing::inside);
+  // Nearly along (a, z): a is 5e-8 above the line of (c, d), z 1.5e-7 below it.
+  EXPECT_EQ(overlay_crossing(a, z, P2(-1, -2.5e-7), P2(2, 3.5e-7), t), Overlay_crossing::none);
+  // Not crossing: (c, d) ends before (a, z), or passes exactly through a.
+  EXPECT_EQ(overlay_crossing(a, z, P2(0.5, 0.1), P2(0.5, 1), t), Overlay_crossing::none);
+  EXPECT_EQ(overlay_crossing(a, z, P2(0, -1), P2(0, 1), t), Overlay_crossing::none);
+}
+
 INSTANTIATE_TEST_SUITE_P(Shared, BenchRemesh,
                          ::testing::ValuesIn(test_bench::names()),
                          [](const auto& info) { return info.param; });

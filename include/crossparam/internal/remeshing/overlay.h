@@ -19,7 +19,8 @@
 //
 // Crossings are computed with exact predicates in the base mesh's frame that holds both edges
 // (Base_mesh::canonical_frame()), or in the base triangle two frames share; a target vertex or edge within
-// `conform_snap` of a vertex or edge of M_s is taken to pass through it.
+// `conform_snap` of a vertex or edge of M_s is taken to pass through it where its image there is as near on
+// the target (place(), passes_through()).
 #ifndef CROSSPARAM_INTERNAL_REMESHING_OVERLAY_H
 #define CROSSPARAM_INTERNAL_REMESHING_OVERLAY_H
 
@@ -81,6 +82,40 @@ constexpr std::size_t overlay_flip_passes = 32;
 /// this only bounds the time where rounding would make two flips undo each other.
 constexpr std::size_t overlay_delaunay_work = 8;
 
+/// How segment (c, d) (a target edge, in a frame of the base mesh) meets segment (a, z) (an edge of M_s).
+enum class Overlay_crossing {
+  none,     ///< it does not cross it, or runs along it
+  at_first, ///< it crosses it within conform_snap of a (relative to |z - a|)
+  at_second,///< ... of z
+  inside    ///< it crosses it farther from both ends, at a + t (z - a)
+};
+/// How segment (c, d) meets segment (a, z): it crosses it when c and d are strictly on either side of the
+/// line of (a, z) and a and z strictly on either side of the line of (c, d) (exact predicates); the crossing
+/// is at an end when that end is within conform_snap times |z - a| of the line of (c, d), or t within
+/// conform_snap of 0 or 1 (an edge of M_s that ends on the target edge, up to rounding); an edge of M_s whose
+/// both ends are that near runs along the target edge and is not crossed. t is computed from the two
+/// distances (well conditioned when the crossing is inside).
+inline Overlay_crossing overlay_crossing(const Point_2& a, const Point_2& z, const Point_2& c, const Point_2& d, double& t) {
+  const CGAL::Orientation oc = CGAL::orientation(a, z, c), od = CGAL::orientation(a, z, d);
+  if (oc == CGAL::ZERO || od == CGAL::ZERO || oc == od) return Overlay_crossing::none;
+  const CGAL::Orientation oa = CGAL::orientation(c, d, a), oz = CGAL::orientation(c, d, z);
+  if (oa == CGAL::ZERO || oz == CGAL::ZERO || oa == oz) return Overlay_crossing::none;
+  const double dx = d.x() - c.x(), dy = d.y() - c.y(), len = std::sqrt(dx * dx + dy * dy);
+  const double elen = std::sqrt(CGAL::squared_distance(a, z));
+  if (!(len > 0) || !(elen > 0)) return Overlay_crossing::none;
+  // Signed distances of a and z from the line of (c, d).
+  const double da = ((a.x() - c.x()) * dy - (a.y() - c.y()) * dx) / len;
+  const double dz = ((z.x() - c.x()) * dy - (z.y() - c.y()) * dx) / len;
+  const double near = std::max(conform_snap * elen, conform_floor);
+  const bool near_a = !(std::abs(da) > near), near_z = !(std::abs(dz) > near);
+  if (near_a && near_z) return Overlay_crossing::none;
+  t = da / (da - dz);
+  if (!(t > 0 && t < 1)) t = near_a ? 0 : 1;
+  if (near_a || !(t > conform_snap)) return Overlay_crossing::at_first;
+  if (near_z || !(t < 1 - conform_snap)) return Overlay_crossing::at_second;
+  return Overlay_crossing::inside;
+}
+
 /// What Target_overlay::run() did.
 struct Overlay_result {
   std::vector<WV> made;     ///< vertices it added
@@ -113,6 +148,7 @@ public:
     Base_locator locator;
     locator.build(s.param);
     std::vector<WV> rv(tm.number_of_vertices(), WV());
+    std::vector<char> placed(tm.number_of_vertices(), 0); // rv[tv] stands for tv: no insert was refused
     std::vector<char> seen;
     // Target vertices, each in the piece of the face that held it when the walk began.
     for (WV tv : tm.vertices()) {
@@ -128,7 +164,9 @@ public:
         std::array<double, 3> b;
         const int where = inside(f, tv, b);
         if (where > 0) {
+          const std::size_t refused = r.refused;
           rv[tv] = place(f, b, tv, r);
+          placed[tv] = r.refused == refused;
           break;
         }
         if (visited.size() < overlay_walk_faces) {
@@ -150,7 +188,11 @@ public:
           const double mn = std::min({b[0], b[1], b[2]});
           if (mn > best_min) best_min = mn, best = f, bb = b;
         }
-        if (best != WF() && best_min > -conform_snap) rv[tv] = place(best, bb, tv, r);
+        if (best != WF() && best_min > -conform_snap) {
+          const std::size_t refused = r.refused;
+          rv[tv] = place(best, bb, tv, r);
+          placed[tv] = r.refused == refused;
+        }
       }
     }
     // Target edges, each made a chain of M_s's edges: by flips where M_s allows them, by splits at the
@@ -165,7 +207,11 @@ public:
         ++skipped;
         continue;
       }
-      std::vector<Crossing> xs = crossings(a, b, rv[a], rv[b], seen);
+      // The edges of M_s at a vertex that stands for an end of the target edge meet it there only; at the
+      // corner a refused insert fell back on, they may cross it.
+      const WV ea = placed[a] ? rv[a] : WV(), eb = placed[b] ? rv[b] : WV();
+      auto at_end = [&](WV u, WV v) { return u == ea || u == eb || v == ea || v == eb; };
+      std::vector<Crossing> xs = crossings(a, b, rv[a], rv[b], seen, at_end);
       // Flips first (Sloan's insertion of a constrained edge): each crossed edge whose two faces form a
       // quadrilateral that flip_keeps_source() allows is flipped; its new diagonal, if it crosses too, and
       // the edges that cannot be flipped yet wait for the next pass. The other edges of M_s are untouched by
@@ -185,7 +231,7 @@ public:
           CGAL::Euler::flip_edge(h, m);
           ++flips;
           Crossing y;
-          if (crossing(std::min(p, q), std::max(p, q), a, b, y)) wait.push_back(y);
+          if (!at_end(p, q) && crossing(std::min(p, q), std::max(p, q), a, b, y)) wait.push_back(y);
         }
         r.flips += flips;
         xs = std::move(wait);
@@ -300,9 +346,10 @@ private:
     return flips;
   }
 
-  /// The crossings of target edge (a, b), whose ends are vertices ra and rb of M_s, with M_s's edges: a walk
-  /// over the faces that meet the edge, from those around its ends, and one ring more.
-  std::vector<Crossing> crossings(WV a, WV b, WV ra, WV rb, std::vector<char>& seen) const {
+  /// The crossings of target edge (a, b), whose ends are vertices ra and rb of M_s, with M_s's edges but those
+  /// that `skip` names: a walk over the faces that meet the edge, from those around its ends, and one ring more.
+  template <class Skip>
+  std::vector<Crossing> crossings(WV a, WV b, WV ra, WV rb, std::vector<char>& seen, const Skip& skip) const {
     const auto& m = s.mesh.m;
     std::vector<WF> queue, hit;
     faces_of(ra, queue);
@@ -335,24 +382,32 @@ private:
     std::vector<Crossing> xs;
     for (const auto& e : es) {
       Crossing x;
-      if (crossing(e[0], e[1], a, b, x)) xs.push_back(x);
+      if (!skip(e[0], e[1]) && crossing(e[0], e[1], a, b, x)) xs.push_back(x);
     }
     return xs;
   }
-  /// Whether target edge (a, b) crosses edge (u, v) of M_s at a point u + t (v - u) with t in
-  /// (conform_snap, 1 - conform_snap), decided with exact predicates in the frame that holds the four.
+  /// Whether target edge (a, b) crosses edge (u, v) of M_s at a point u + t (v - u), decided with exact
+  /// predicates in the frame that holds the four. A crossing within conform_snap of u or v (see overlay_crossing()) is
+  /// taken to pass through that vertex only if its image is as near the target edge on the target
+  /// (passes_through()); where the map squeezes a part of the target into nearly one point of the source, a
+  /// vertex that near in the parameter domain can be far from the edge on the target, and the edge is split there.
   bool crossing(WV u, WV v, WV a, WV b, Crossing& x) const {
     const std::array<const Base_location*, 4> ls{&s.param[u], &s.param[v], &s.target_param[a], &s.target_param[b]};
     std::array<Point_2, 4> p;
     int c, n;
     x.u = u, x.v = v;
-    if (B.canonical_frame(ls, c, n, p)) return crosses(p[0], p[1], p[2], p[3], x.t);
+    auto decide = [&](Overlay_crossing k) {
+      if (k == Overlay_crossing::none) return false;
+      if (k == Overlay_crossing::inside) return true;
+      return !passes_through(k == Overlay_crossing::at_first ? u : v, a, b);
+    };
+    if (B.canonical_frame(ls, c, n, p)) return decide(overlay_crossing(p[0], p[1], p[2], p[3], x.t));
     // No frame holds the two segments (each crosses a different edge of a base triangle they share): they
     // can only cross inside a base triangle of both, where each one's own frame gives the same coordinates.
     std::array<Point_2, 2> pu, pa;
     for (int T : shared_triangles<2, 2>({ls[0], ls[1]}, {ls[2], ls[3]})) {
       if (!in_triangle_frame<2>(T, {ls[0], ls[1]}, pu) || !in_triangle_frame<2>(T, {ls[2], ls[3]}, pa)) continue;
-      if (!crosses(pu[0], pu[1], pa[0], pa[1], x.t)) continue;
+      if (!decide(overlay_crossing(pu[0], pu[1], pa[0], pa[1], x.t))) continue;
       const Point_2 X(pu[0].x() + x.t * (pu[1].x() - pu[0].x()), pu[0].y() + x.t * (pu[1].y() - pu[0].y()));
       const auto& q = B.q[std::size_t(T)];
       if (CGAL::orientation(q[0], q[1], X) != CGAL::NEGATIVE && CGAL::orientation(q[1], q[2], X) != CGAL::NEGATIVE &&
@@ -360,6 +415,15 @@ private:
         return true;
     }
     return false;
+  }
+  /// Whether vertex w of M_s, which a target edge (a, b) passes within conform_snap of in the parameter
+  /// domain, may stand for a point of it: its image is within overlay_snap_share ε of the edge on the target, or
+  /// within conform_snap of the edge's length (the test of place() for a target vertex).
+  bool passes_through(WV w, WV a, WV b) const {
+    const auto& tm = s.target.m;
+    const Point_3 &pa = tm.point(a), &pb = tm.point(b);
+    const double d = std::sqrt(CGAL::squared_distance(s.pos[w], Kernel::Segment_3(pa, pb)));
+    return d <= std::max(conform_snap * std::sqrt(CGAL::squared_distance(pa, pb)), overlay_snap_share * s.eps);
   }
   /// The base triangles of the canonical frames of `l1` and of `l2` that both frames share.
   template <std::size_t N1, std::size_t N2>
@@ -388,26 +452,6 @@ private:
     for (std::size_t k = 0; k < N; ++k)
       if (!B.frame_point(T, slot, *ls[k], p[k])) return false;
     return true;
-  }
-  /// Whether segment (c, d) crosses segment (a, z) at a + t (z - a): c and d strictly on either side of the
-  /// line of (a, z) (exact predicates), and a and z on either side of the line of (c, d) by more than
-  /// conform_snap times |z - a| (an edge of M_s that a target edge runs along, or that ends on it, is not
-  /// crossed by it; t from those two distances is then well conditioned).
-  static bool crosses(const Point_2& a, const Point_2& z, const Point_2& c, const Point_2& d, double& t) {
-    const CGAL::Orientation oc = CGAL::orientation(a, z, c), od = CGAL::orientation(a, z, d);
-    if (oc == CGAL::ZERO || od == CGAL::ZERO || oc == od) return false;
-    const CGAL::Orientation oa = CGAL::orientation(c, d, a), oz = CGAL::orientation(c, d, z);
-    if (oa == CGAL::ZERO || oz == CGAL::ZERO || oa == oz) return false;
-    const double dx = d.x() - c.x(), dy = d.y() - c.y(), len = std::sqrt(dx * dx + dy * dy);
-    const double elen = std::sqrt(CGAL::squared_distance(a, z));
-    if (!(len > 0) || !(elen > 0)) return false;
-    // Signed distances of a and z from the line of (c, d).
-    const double da = ((a.x() - c.x()) * dy - (a.y() - c.y()) * dx) / len;
-    const double dz = ((z.x() - c.x()) * dy - (z.y() - c.y()) * dx) / len;
-    const double near = std::max(conform_snap * elen, conform_floor);
-    if (!(std::abs(da) > near) || !(std::abs(dz) > near)) return false;
-    t = da / (da - dz);
-    return t > conform_snap && t < 1 - conform_snap;
   }
   /// Where target vertex tv lies for face f: 0 outside it, 1 inside within conform_snap of its border (or on
   /// it), 2 inside beyond that, with its barycentrics in f's halfedge order in `b`.
