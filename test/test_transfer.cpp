@@ -22,6 +22,7 @@
 #include <cstdlib>
 #include <functional>
 #include <iostream>
+#include <limits>
 #include <filesystem>
 
 using namespace crossparam;
@@ -204,6 +205,74 @@ TEST(Blend, RegionWeights) {
   }
   EXPECT_GT(inside, 1u);
   EXPECT_GT(outside, w.size() / 2);
+}
+
+// A region on a mesh full of slivers (each face split in three at a point 1e-9 of its size from an edge's
+// midpoint, as the common refinement of an N-way remeshing makes them): the heat method's intrinsic Delaunay
+// mode may fail on such a mesh (it returned every distance at the largest double on a three-wolf output), and
+// the weights must still be those of the mesh without the slivers, up to the heat method's own error.
+TEST(Blend, RegionWeightsOnSlivers) {
+  const Surface_mesh s = shapes::make_deformed_sphere(71, 800, false);
+  std::vector<std::array<double, 3>> pts;
+  for (auto v : s.vertices()) pts.push_back({s.point(v).x(), s.point(v).y(), s.point(v).z()});
+  std::vector<std::array<std::size_t, 3>> faces, split;
+  for (auto f : s.faces()) {
+    std::array<std::size_t, 3> t{};
+    int k = 0;
+    for (auto v : CGAL::vertices_around_face(s.halfedge(f), s)) t[std::size_t(k++)] = std::size_t(v);
+    faces.push_back(t);
+  }
+  std::vector<std::array<double, 3>> sliver_pts = pts;
+  for (const auto& t : faces) {
+    const double d = 1e-9;
+    std::array<double, 3> p{};
+    for (int c = 0; c < 3; ++c) p[std::size_t(c)] = (0.5 - d / 2) * pts[t[0]][std::size_t(c)] + (0.5 - d / 2) * pts[t[1]][std::size_t(c)] + d * pts[t[2]][std::size_t(c)];
+    const std::size_t x = sliver_pts.size();
+    sliver_pts.push_back(p);
+    split.push_back({t[0], t[1], x});
+    split.push_back({t[1], t[2], x});
+    split.push_back({t[2], t[0], x});
+  }
+  const std::vector<double> clean = region_weights(pts, faces, 0, 0.3, 0.3);
+  const std::vector<double> slivers = region_weights(sliver_pts, split, 0, 0.3, 0.3);
+  ASSERT_EQ(slivers.size(), sliver_pts.size());
+  EXPECT_EQ(slivers[0], 1.0);
+  double worst = 0;
+  std::size_t inside = 0;
+  for (std::size_t v = 0; v < pts.size(); ++v) worst = std::max(worst, std::abs(clean[v] - slivers[v])), inside += slivers[v] == 1.0;
+  std::cout << "[ region ] on slivers: " << inside << " of " << pts.size() << " vertices inside, largest weight difference " << worst << "\n";
+  EXPECT_GT(inside, 1u);
+  EXPECT_LT(worst, 0.25);
+}
+
+// The plausibility test that decides whether the heat method's distances are taken: the shortest edge paths
+// themselves pass it, and so does the straight-line distance (both bounds, within heat_distance_slack); an
+// estimate at the largest double (what the intrinsic Delaunay mode returned on a three-wolf output), NaN, or
+// half the straight-line distance does not.
+TEST(Blend, GeodesicEstimatesOutsideTheirBoundsAreRejected) {
+  const Surface_mesh s = shapes::make_deformed_sphere(71, 800, false);
+  const Surface_mesh::Vertex_index c{0};
+  std::vector<double> path(s.number_of_vertices(), HUGE_VAL), straight(s.number_of_vertices(), 0.0);
+  {
+    auto length = [&](Surface_mesh::Halfedge_index h) { return std::sqrt(CGAL::squared_distance(s.point(s.source(h)), s.point(s.target(h)))); };
+    path[0] = 0;
+    for (bool changed = true; changed;) { // Bellman-Ford: the test's own shortest paths
+      changed = false;
+      for (auto h : s.halfedges())
+        if (path[std::size_t(s.source(h))] + length(h) < path[std::size_t(s.target(h))])
+          path[std::size_t(s.target(h))] = path[std::size_t(s.source(h))] + length(h), changed = true;
+    }
+  }
+  for (auto v : s.vertices()) straight[std::size_t(v)] = std::sqrt(CGAL::squared_distance(s.point(v), s.point(c)));
+  EXPECT_TRUE(internal::plausible_geodesic_distances(s, c, path, path));
+  EXPECT_TRUE(internal::plausible_geodesic_distances(s, c, straight, path));
+  std::vector<double> bad(path.size(), std::numeric_limits<double>::max());
+  EXPECT_FALSE(internal::plausible_geodesic_distances(s, c, bad, path));
+  bad = path;
+  bad[5] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(internal::plausible_geodesic_distances(s, c, bad, path));
+  for (std::size_t v = 0; v < bad.size(); ++v) bad[v] = 0.5 * straight[v];
+  EXPECT_FALSE(internal::plausible_geodesic_distances(s, c, bad, path));
 }
 
 namespace {

@@ -12,12 +12,41 @@
 
 #include <CGAL/Heat_method_3/Surface_mesh_geodesic_distances_3.h>
 
+#include <boost/graph/dijkstra_shortest_paths.hpp>
+#include <boost/property_map/property_map.hpp>
+
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <string>
 #include <vector>
 
 namespace crossparam {
+
+/// How far beyond the two bounds that every geodesic distance obeys (the straight-line distance below, the
+/// shortest path along edges above) the heat method's estimate may lie and still be taken (region_weights()):
+/// a quarter. The heat method's error is a few percent on meshes of reasonable triangles; on a mesh with
+/// slivers, such as the source-shaped output of an N-way remeshing, its intrinsic Delaunay mode can return
+/// every distance at the largest double, and that, or any estimate this far off, is rejected.
+constexpr double heat_distance_slack = 0.25;
+
+namespace internal {
+/// Whether the estimates `d` from vertex `center` of `m` lie within heat_distance_slack of the straight-line
+/// distances below and of the edge-path distances `path` above.
+inline bool plausible_geodesic_distances(const Surface_mesh& m, Surface_mesh::Vertex_index center,
+                                         const std::vector<double>& d, const std::vector<double>& path) {
+  double scale = 0; // the longest edge path: rounding of distances is relative to it
+  for (double p : path)
+    if (std::isfinite(p)) scale = std::max(scale, p);
+  for (auto v : m.vertices()) {
+    const double x = d[std::size_t(v)], lower = std::sqrt(CGAL::squared_distance(m.point(v), m.point(center)));
+    if (!std::isfinite(x) || x < (1 - heat_distance_slack) * lower - 1e-9 * scale ||
+        x > (1 + heat_distance_slack) * path[std::size_t(v)])
+      return false;
+  }
+  return true;
+}
+} // namespace internal
 
 /// \brief Local blend: vertex v of the result is the sum over meshes m of `vertex_weights[v][m]` times vertex v
 /// of mesh m.
@@ -44,7 +73,9 @@ inline std::vector<std::array<double, 3>> local_blend(const std::vector<const st
 
 /// \brief A weight per vertex that is 1 within geodesic distance `radius` of vertex `center`, falls smoothly
 /// (C1, a smoothstep of the distance) to 0 over the next `falloff`, and is 0 beyond. Geodesic distances by the
-/// heat method (CGAL `Heat_method_3`).
+/// heat method (CGAL `Heat_method_3`), on the intrinsic Delaunay triangulation, or directly on the mesh if that
+/// estimate is implausible (see heat_distance_slack); if both are, the shortest paths along edges (an upper
+/// bound, exact along edges; Boost's Dijkstra).
 /// \param points, faces a closed triangle mesh (faces index `points`)
 /// \param center the vertex the region is around
 /// \param radius, falloff distances in the mesh's units; `falloff` 0 gives a sharp border
@@ -63,11 +94,24 @@ inline std::vector<double> region_weights(const std::vector<std::array<double, 3
     if (m.add_face(Surface_mesh::Vertex_index(Surface_mesh::size_type(f[0])), Surface_mesh::Vertex_index(Surface_mesh::size_type(f[1])),
                    Surface_mesh::Vertex_index(Surface_mesh::size_type(f[2]))) == Surface_mesh::null_face())
       throw Input_error("region: the faces do not form a manifold mesh");
-  auto distance = m.add_property_map<Surface_mesh::Vertex_index, double>("v:crossparam_geodesic", 0.0).first;
-  CGAL::Heat_method_3::estimate_geodesic_distances(m, distance, Surface_mesh::Vertex_index(Surface_mesh::size_type(center)));
+  const Surface_mesh::Vertex_index c{Surface_mesh::size_type(center)};
+  // Edge paths: the upper bound, and the last resort.
+  auto length = m.add_property_map<Surface_mesh::Edge_index, double>("e:crossparam_length", 0.0).first;
+  for (auto e : m.edges()) length[e] = std::sqrt(CGAL::squared_distance(m.point(m.vertex(e, 0)), m.point(m.vertex(e, 1))));
+  std::vector<double> path(points.size(), HUGE_VAL);
+  boost::dijkstra_shortest_paths(m, c, boost::distance_map(boost::make_iterator_property_map(path.begin(), get(boost::vertex_index, m)))
+                                           .weight_map(length));
+  std::vector<double> distance(points.size(), 0.0), estimate(points.size(), 0.0);
+  auto heat = [&](auto mode) {
+    auto map = boost::make_iterator_property_map(estimate.begin(), get(boost::vertex_index, m));
+    CGAL::Heat_method_3::estimate_geodesic_distances(m, map, c, mode);
+    return internal::plausible_geodesic_distances(m, c, estimate, path);
+  };
+  if (heat(CGAL::Heat_method_3::Intrinsic_Delaunay()) || heat(CGAL::Heat_method_3::Direct())) distance = estimate;
+  else distance = path;
   std::vector<double> w(points.size(), 0.0);
   for (auto v : m.vertices()) {
-    const double d = distance[v];
+    const double d = distance[std::size_t(v)];
     if (d <= radius) w[std::size_t(v)] = 1;
     else if (falloff > 0 && d < radius + falloff) {
       const double t = 1 - (d - radius) / falloff; // 1 at the radius, 0 at the end of the falloff
