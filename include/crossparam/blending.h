@@ -74,8 +74,8 @@ inline std::vector<std::array<double, 3>> local_blend(const std::vector<const st
 /// \brief A weight per vertex that is 1 within geodesic distance `radius` of vertex `center`, falls smoothly
 /// (C1, a smoothstep of the distance) to 0 over the next `falloff`, and is 0 beyond. Geodesic distances by the
 /// heat method (CGAL `Heat_method_3`), on the intrinsic Delaunay triangulation, or directly on the mesh if that
-/// estimate is implausible (see heat_distance_slack); if both are, the shortest paths along edges (an upper
-/// bound, exact along edges; Boost's Dijkstra).
+/// estimate is implausible (see heat_distance_slack) and no face is degenerate; else the shortest paths along
+/// edges (an upper bound, exact along edges; Boost's Dijkstra).
 /// \param points, faces a closed triangle mesh (faces index `points`)
 /// \param center the vertex the region is around
 /// \param radius, falloff distances in the mesh's units; `falloff` 0 gives a sharp border
@@ -107,8 +107,16 @@ inline std::vector<double> region_weights(const std::vector<std::array<double, 3
     CGAL::Heat_method_3::estimate_geodesic_distances(m, map, c, mode);
     return internal::plausible_geodesic_distances(m, c, estimate, path);
   };
-  if (heat(CGAL::Heat_method_3::Intrinsic_Delaunay()) || heat(CGAL::Heat_method_3::Direct())) distance = estimate;
-  else distance = path;
+  // The direct mode needs every face non-degenerate (its cotangents); the intrinsic Delaunay mode does not.
+  bool degenerate = false;
+  for (auto f : m.faces()) {
+    const auto h = m.halfedge(f);
+    degenerate = degenerate || CGAL::collinear(m.point(m.source(h)), m.point(m.target(h)), m.point(m.target(m.next(h))));
+  }
+  if (heat(CGAL::Heat_method_3::Intrinsic_Delaunay()) || (!degenerate && heat(CGAL::Heat_method_3::Direct())))
+    distance = estimate;
+  else
+    distance = path;
   std::vector<double> w(points.size(), 0.0);
   for (auto v : m.vertices()) {
     const double d = distance[std::size_t(v)];
