@@ -11,6 +11,7 @@
 #include <crossparam/types.h>
 
 #include <CGAL/Heat_method_3/Surface_mesh_geodesic_distances_3.h>
+#include <CGAL/Polygon_mesh_processing/shape_predicates.h>
 
 #include <boost/graph/dijkstra_shortest_paths.hpp>
 #include <boost/property_map/property_map.hpp>
@@ -109,10 +110,7 @@ inline std::vector<double> region_weights(const std::vector<std::array<double, 3
   };
   // The direct mode needs every face non-degenerate (its cotangents); the intrinsic Delaunay mode does not.
   bool degenerate = false;
-  for (auto f : m.faces()) {
-    const auto h = m.halfedge(f);
-    degenerate = degenerate || CGAL::collinear(m.point(m.source(h)), m.point(m.target(h)), m.point(m.target(m.next(h))));
-  }
+  for (auto f : m.faces()) degenerate = degenerate || CGAL::Polygon_mesh_processing::is_degenerate_triangle_face(f, m);
   if (heat(CGAL::Heat_method_3::Intrinsic_Delaunay()) || (!degenerate && heat(CGAL::Heat_method_3::Direct())))
     distance = estimate;
   else

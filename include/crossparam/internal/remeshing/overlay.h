@@ -149,6 +149,11 @@ public:
     locator.build(s.param);
     std::vector<WV> rv(tm.number_of_vertices(), WV());
     std::vector<char> placed(tm.number_of_vertices(), 0); // rv[tv] stands for tv: no insert was refused
+    auto put = [&](WF f, const std::array<double, 3>& b, WV tv) {
+      const std::size_t refused = r.refused;
+      rv[tv] = place(f, b, tv, r);
+      placed[tv] = r.refused == refused;
+    };
     std::vector<char> seen;
     // Target vertices, each in the piece of the face that held it when the walk began.
     for (WV tv : tm.vertices()) {
@@ -164,9 +169,7 @@ public:
         std::array<double, 3> b;
         const int where = inside(f, tv, b);
         if (where > 0) {
-          const std::size_t refused = r.refused;
-          rv[tv] = place(f, b, tv, r);
-          placed[tv] = r.refused == refused;
+          put(f, b, tv);
           break;
         }
         if (visited.size() < overlay_walk_faces) {
@@ -188,11 +191,7 @@ public:
           const double mn = std::min({b[0], b[1], b[2]});
           if (mn > best_min) best_min = mn, best = f, bb = b;
         }
-        if (best != WF() && best_min > -conform_snap) {
-          const std::size_t refused = r.refused;
-          rv[tv] = place(best, bb, tv, r);
-          placed[tv] = r.refused == refused;
-        }
+        if (best != WF() && best_min > -conform_snap) put(best, bb, tv);
       }
     }
     // Target edges, each made a chain of M_s's edges: by flips where M_s allows them, by splits at the
@@ -307,7 +306,12 @@ private:
     double shortest = HUGE_VAL;
     for (WH h : CGAL::halfedges_around_target(tm.halfedge(tv), tm))
       shortest = std::min(shortest, std::sqrt(CGAL::squared_distance(p, tm.point(tm.source(h)))));
-    return std::sqrt(CGAL::squared_distance(p, image)) <= std::max(conform_snap * shortest, overlay_snap_share * s.eps);
+    return near_on_target(std::sqrt(CGAL::squared_distance(p, image)), shortest);
+  }
+  /// Whether a snap that moves a point by `move` on the target, where the target's edges are `length` long,
+  /// keeps it: within overlay_snap_share ε, or within conform_snap of that length.
+  bool near_on_target(double move, double length) const {
+    return move <= std::max(conform_snap * length, overlay_snap_share * s.eps);
   }
 
   struct Crossing {
@@ -422,8 +426,8 @@ private:
   bool passes_through(WV w, WV a, WV b) const {
     const auto& tm = s.target.m;
     const Point_3 &pa = tm.point(a), &pb = tm.point(b);
-    const double d = std::sqrt(CGAL::squared_distance(s.pos[w], Kernel::Segment_3(pa, pb)));
-    return d <= std::max(conform_snap * std::sqrt(CGAL::squared_distance(pa, pb)), overlay_snap_share * s.eps);
+    return near_on_target(std::sqrt(CGAL::squared_distance(s.pos[w], Kernel::Segment_3(pa, pb))),
+                          std::sqrt(CGAL::squared_distance(pa, pb)));
   }
   /// The base triangles of the canonical frames of `l1` and of `l2` that both frames share.
   template <std::size_t N1, std::size_t N2>
