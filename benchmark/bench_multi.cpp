@@ -85,15 +85,16 @@ void run(const fs::path& dir, std::size_t n, double tolerance, Remeshing_constru
             << S.output_faces << " faces, " << S.output_vertices << " vertices = "
             << fmt(double(S.output_vertices) / double(largest), 2) << " x the largest input (" << largest
             << "); source faces triangulated anew: " << S.retriangulated_faces << " (" << fmt(S.seconds_common, 2)
-            << " s); total " << fmt(S.seconds_total, 1) << " s\n\n";
-  std::cout << "| mesh | input vertices | Hausdorff % | flipped (at target folds) | its remeshing's vertices | landmark error mean | max | "
+            << " s); output repair " << fmt(S.seconds_repair, 2) << " s; total " << fmt(S.seconds_total, 1) << " s\n\n";
+  std::cout << "| mesh | input vertices | Hausdorff % | flipped (at target folds) | new self-intersecting pairs | bad faces before / after the repair | its remeshing's vertices | landmark error mean | max | "
                "map s | fit s | verified |\n";
-  std::cout << "|---|---|---|---|---|---|---|---|---|---|\n";
+  std::cout << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (std::size_t m = 0; m < n; ++m) {
     if (m == S.source) {
       const Remeshing_verification v = verify_compatible_remeshing(meshes[m], meshes[m], outs[m], outs[m], tolerance);
       std::cout << "| " << m << " (source) | " << meshes[m].number_of_vertices() << " | " << fmt(v.hausdorff_source, 6)
-                << " | " << v.flipped_faces << " | - | - | - | - | - | " << (v.valid ? "yes" : "no") << " |\n";
+                << " | " << v.flipped_faces << " | " << v.new_self_intersections << " | " << S.bad_faces_before_repair[m] << " / "
+                << S.bad_faces_after_repair[m] << " | - | - | - | - | - | " << (v.valid ? "yes" : "no") << " |\n";
       continue;
     }
     const Remeshing_verification v = verify_compatible_remeshing(meshes[S.source], meshes[m], outs[S.source], outs[m], tolerance);
@@ -108,7 +109,8 @@ void run(const fs::path& dir, std::size_t n, double tolerance, Remeshing_constru
       sum += d, mx = std::max(mx, d);
     }
     std::cout << "| " << m << " | " << meshes[m].number_of_vertices() << " | " << fmt(v.hausdorff_target) << " | "
-              << v.flipped_faces << " (" << v.flipped_at_target_folds << ") | " << S.fitted_vertices[m] << " | " << fmt(sum / double(landmarks.size()), 4) << " | "
+              << v.flipped_faces << " (" << v.flipped_at_target_folds << ") | " << v.new_self_intersections << " | "
+              << S.bad_faces_before_repair[m] << " / " << S.bad_faces_after_repair[m] << " | " << S.fitted_vertices[m] << " | " << fmt(sum / double(landmarks.size()), 4) << " | "
               << fmt(mx, 4) << " | " << fmt(S.seconds_map[m], 1) << " | " << fmt(S.seconds_fit[m], 1) << " | "
               << (v.valid ? "yes" : "no: " + v.message) << " |\n";
   }

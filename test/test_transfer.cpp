@@ -12,6 +12,7 @@
 #include <support/shapes.h>
 
 #include <CGAL/Polygon_mesh_processing/distance.h>
+#include <CGAL/boost/graph/generators.h>
 #include <CGAL/Polygon_mesh_processing/locate.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
 
@@ -389,6 +390,159 @@ TEST(MultiRemesh, CommonRefinementMergesOnlyNeedlesOfEveryOutput) {
       EXPECT_EQ(c.faces.size(), 3u);
     }
   }
+}
+
+// The repair of one N-way output (internal/remeshing/output_repair.h) moves corners of bad faces only. A
+// sphere's own faces with one vertex moved over its neighbour, reflected at it (the faces around it fold over):
+// the vertex goes back onto the sphere near its place, no point farther than two rings from it moves, and the
+// verifier finds no flipped face and no intersecting pair. With nothing movable, nothing changes.
+TEST(MultiRemesh, OutputRepairMovesOnlyCornersOfBadFaces) {
+  const Surface_mesh sphere = shapes::make_deformed_sphere(85, 800, false);
+  const std::vector<std::array<std::size_t, 3>> faces = internal::face_list(sphere);
+  std::vector<std::array<double, 3>> points;
+  for (auto v : sphere.vertices()) points.push_back({sphere.point(v).x(), sphere.point(v).y(), sphere.point(v).z()});
+  const double diag = internal::bbox_diagonal(sphere);
+  const std::size_t pushed = 100;
+  auto ring = [&](const std::vector<std::size_t>& from) {
+    std::vector<std::size_t> out = from;
+    for (const auto& f : faces)
+      for (std::size_t v : from)
+        if (std::find(f.begin(), f.end(), v) != f.end()) out.insert(out.end(), f.begin(), f.end());
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+  };
+  const std::vector<std::size_t> one = ring({pushed}), two = ring(one);
+  const std::size_t over = one.front() != pushed ? one.front() : one.back();
+  std::vector<std::array<double, 3>> bad = points;
+  for (int k = 0; k < 3; ++k) bad[pushed][k] = 2 * points[over][k] - points[pushed][k];
+  auto as_mesh = [&](const std::vector<std::array<double, 3>>& p) {
+    Surface_mesh m;
+    std::vector<Point_3> pts;
+    for (const auto& x : p) pts.emplace_back(x[0], x[1], x[2]);
+    std::vector<std::vector<std::size_t>> polys;
+    for (const auto& f : faces) polys.push_back({f[0], f[1], f[2]});
+    PMP::polygon_soup_to_polygon_mesh(pts, polys, m);
+    return m;
+  };
+  const Remeshing_verification before = verify_compatible_remeshing(sphere, sphere, sphere, as_mesh(bad), 5.0);
+  EXPECT_GT(before.flipped_faces, 0u);
+
+  std::vector<std::array<double, 3>> moved = bad;
+  const internal::Output_repair_result r =
+      internal::Output_repairer(faces, moved, sphere, 0.05 * diag, std::vector<char>(points.size(), 1)).run();
+  EXPECT_GT(r.bad_before, 0u);
+  EXPECT_EQ(r.bad_after, 0u);
+  EXPECT_GE(r.moves, 1u);
+  EXPECT_NE(moved[pushed], bad[pushed]);
+  std::size_t changed = 0;
+  for (std::size_t v = 0; v < points.size(); ++v) changed += moved[v] != bad[v];
+  EXPECT_LE(changed, r.moves);
+  for (std::size_t v = 0; v < points.size(); ++v) {
+    if (moved[v] == bad[v]) continue;
+    // Every point moved is a corner of a face that was bad, and lies on the sphere (within rounding).
+    const Point_3 p(moved[v][0], moved[v][1], moved[v][2]);
+    EXPECT_LT(PMP::max_distance_to_triangle_mesh<CGAL::Sequential_tag>(std::vector<Point_3>{p}, sphere), 1e-6 * diag);
+    EXPECT_TRUE(std::binary_search(two.begin(), two.end(), v)) << "vertex " << v;
+  }
+  const Remeshing_verification after = verify_compatible_remeshing(sphere, sphere, sphere, as_mesh(moved), 5.0);
+  EXPECT_EQ(after.flipped_faces, 0u);
+  EXPECT_EQ(after.new_self_intersections, 0u);
+
+  std::vector<std::array<double, 3>> fixed = bad;
+  const internal::Output_repair_result none =
+      internal::Output_repairer(faces, fixed, sphere, 0.05 * diag, std::vector<char>(points.size(), 0)).run();
+  EXPECT_EQ(none.moves, 0u);
+  EXPECT_EQ(none.bad_after, none.bad_before);
+  EXPECT_EQ(fixed, bad);
+}
+
+// On the source's output the repair keeps the source's surface: a vertex inside one source face, put where the
+// faces around it flip, goes to the centroid of its neighbours in that face's barycentric coordinates.
+TEST(MultiRemesh, OutputRepairOnTheSourceStaysInItsFace) {
+  Surface_mesh tet;
+  CGAL::make_tetrahedron(Point_3(0, 0, 0), Point_3(1, 0, 0), Point_3(0, 1, 0), Point_3(0, 0, 1), tet);
+  std::vector<std::array<std::size_t, 3>> faces = internal::face_list(tet);
+  std::vector<Input_face_location> locations;
+  for (std::size_t f = 1; f < faces.size(); ++f) {
+    Input_face_location l;
+    l.face = f, l.vertices = faces[f], l.corners = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+    locations.push_back(l);
+  }
+  // Face 0 split at vertex 4, given at its centroid in face 0's coordinates.
+  const std::array<std::size_t, 3> t = faces[0];
+  std::vector<std::array<std::size_t, 3>> all(faces.begin() + 1, faces.end());
+  const std::array<double, 3> A{1, 0, 0}, B{0, 1, 0}, C{0, 0, 1}, Q{1.0 / 3, 1.0 / 3, 1.0 / 3};
+  const std::array<std::array<std::size_t, 3>, 3> split{{{t[0], t[1], 4}, {t[1], t[2], 4}, {t[2], t[0], 4}}};
+  const std::array<std::array<std::array<double, 3>, 3>, 3> at{{{A, B, Q}, {B, C, Q}, {C, A, Q}}};
+  for (int i = 0; i < 3; ++i) {
+    all.push_back(split[i]);
+    Input_face_location l;
+    l.face = 0, l.vertices = t, l.corners = at[i];
+    locations.push_back(l);
+  }
+  std::vector<std::array<double, 3>> points;
+  for (auto v : tet.vertices()) points.push_back({tet.point(v).x(), tet.point(v).y(), tet.point(v).z()});
+  // Vertex 4 just beyond the edge (t0, t1), in the face's plane: the face (t0, t1, 4) is reversed.
+  auto P = [&](std::size_t v) { return points[v]; };
+  std::array<double, 3> m, q;
+  for (int k = 0; k < 3; ++k) m[k] = (P(t[0])[k] + P(t[1])[k]) / 2, q[k] = m[k] + 0.05 * (m[k] - P(t[2])[k]);
+  points.push_back(q);
+  std::vector<char> movable(5, 0);
+  movable[4] = 1;
+  const internal::Output_repair_result r =
+      internal::Output_repairer(all, points, tet, 0.01 * internal::bbox_diagonal(tet), movable, &locations).run();
+  EXPECT_GE(r.bad_before, 1u);
+  EXPECT_EQ(r.bad_after, 0u);
+  for (int k = 0; k < 3; ++k)
+    EXPECT_NEAR(points[4][k], (P(t[0])[k] + P(t[1])[k] + P(t[2])[k]) / 3, 1e-15);
+  for (std::size_t v = 0; v < 4; ++v)
+    EXPECT_EQ(Point_3(points[v][0], points[v][1], points[v][2]), tet.point(Surface_mesh::Vertex_index(Surface_mesh::size_type(v))));
+}
+
+// The orientation of three points given by barycentric coordinates whose sums are not exactly 1: three points with
+// one coordinate exactly 0 lie on one edge, collinear, whatever the rounding of the others (the overlay's
+// vertices on a source edge, as a remeshing of bench_multi/fourleg5 had them).
+TEST(MultiRemesh, BarycentricOrientationNeedsNoExactSums) {
+  const std::array<double, 3> a{0, 0.16218997752276917, 0.8378100224772308}, b{0, 0.52725022744911454, 0.47274977255088546},
+      c{0, 0.5, 0.5};
+  EXPECT_EQ(internal::barycentric_orientation(a, b, c), CGAL::COLLINEAR);
+  EXPECT_EQ(internal::barycentric_orientation({1, 0, 0}, {0, 1, 0}, {0, 0, 1}), CGAL::POSITIVE);
+  EXPECT_EQ(internal::barycentric_orientation({1, 0, 0}, {0, 0, 1}, {0, 1, 0}), CGAL::NEGATIVE);
+  EXPECT_EQ(internal::barycentric_orientation({0.2, 0.3, 0.5}, {2e-16, 0.6, 0.4}, {0.1, 0.1, 0.8}),
+            CGAL::orientation(Kernel::Point_2(0.3, 0.5), Kernel::Point_2(0.6, 0.4), Kernel::Point_2(0.1, 0.8)));
+}
+
+// The floating-point filters of faces_intersect() (strictly_one_side(), apart_at_shared()) never change its
+// answer: on random pairs of faces sharing a corner or an edge, coplanar or within 1e-12 of it, the answer is
+// the exact one computed with CGAL's exact kernel.
+TEST(MultiRemesh, FaceIntersectionFiltersKeepTheExactAnswer) {
+  using EK = CGAL::Exact_predicates_exact_constructions_kernel;
+  CGAL::Random rng(86);
+  std::size_t met = 0, apart = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    const bool edge = trial % 2 == 0;
+    const double tilt = trial % 4 < 2 ? 0.0 : 1e-12;
+    std::vector<Point_3> p;
+    for (int i = 0; i < 4; ++i) p.emplace_back(rng.get_double(-1, 1), rng.get_double(-1, 1), i == 3 ? tilt * rng.get_double(-1, 1) : 0.0);
+    p.emplace_back(rng.get_double(-1, 1), rng.get_double(-1, 1), tilt * rng.get_double(-1, 1));
+    // c = (0, 1, 2); d shares the edge (0, 1) or the corner 0.
+    const std::array<std::size_t, 3> c{0, 1, 2}, d = edge ? std::array<std::size_t, 3>{1, 0, 3} : std::array<std::size_t, 3>{0, 3, 4};
+    const auto P = [&](std::size_t v) -> const Point_3& { return p[v]; };
+    CGAL::Cartesian_converter<Kernel, EK> to_exact;
+    auto X = [&](std::size_t v) { return to_exact(p[v]); };
+    bool exact;
+    if (edge) {
+      exact = CGAL::coplanar(X(0), X(1), X(2), X(3)) && CGAL::coplanar_orientation(X(0), X(1), X(2), X(3)) == CGAL::POSITIVE;
+    } else {
+      const EK::Triangle_3 tc(X(0), X(1), X(2)), td(X(0), X(3), X(4));
+      exact = CGAL::do_intersect(EK::Segment_3(X(1), X(2)), td) || CGAL::do_intersect(EK::Segment_3(X(3), X(4)), tc);
+    }
+    EXPECT_EQ(internal::faces_intersect(c, d, P), exact) << "trial " << trial;
+    (exact ? met : apart) += 1;
+  }
+  EXPECT_GT(met, 100u); // both answers are exercised
+  EXPECT_GT(apart, 100u);
 }
 
 // Three meshes to one connectivity: every output verified against its own input by the independent verifier

@@ -14,6 +14,10 @@
 // itself, subdivided, so it keeps the remeshing's distance to mesh k and its normals, and every vertex of the
 // remeshing keeps its place. The source output lies on the source exactly, its vertices first.
 //
+// Last, each output is repaired on its own (internal/remeshing/output_repair.h): a part of a good face of a
+// remeshing can be bad by the verifier's definitions (the flip rule tests it at its own centroid; a sliver's
+// normal is rounding), and the outputs share the face list only, so moving points of one output changes no other.
+//
 // This is §2.3's incremental construction with the fits made independently of each other: a vertex added for
 // mesh k gets its place on every other mesh through that mesh's fitted surface (within the tolerance of the
 // mesh) rather than through that mesh's map, which would undo the fit's smoothing and untangling there.
@@ -24,6 +28,7 @@
 #include <crossparam/cross_parameterization.h>
 #include <crossparam/errors.h>
 #include <crossparam/internal/remeshing/common_refinement.h>
+#include <crossparam/internal/remeshing/output_repair.h>
 
 #include <algorithm>
 #include <chrono>
@@ -55,7 +60,11 @@ struct Multi_remeshing_statistics {
   std::size_t merged_needles = 0;           ///< edges within rounding of zero length, collapsed
   std::vector<double> seconds_map;          ///< per mesh: its cross-parameterization (0 for the source)
   std::vector<double> seconds_fit;          ///< per mesh: its compatible remeshing (0 for the source)
+  std::vector<std::size_t> bad_faces_before_repair; ///< per mesh: its output's bad faces (flipped, degenerate, intersecting) before the output repair
+  std::vector<std::size_t> bad_faces_after_repair;  ///< and after it (the repair's own count; the verifier decides)
+  std::vector<std::size_t> repair_moves;            ///< per mesh: points the output repair moved
   double seconds_common = 0;                ///< the common refinement
+  double seconds_repair = 0;                ///< the output repair, all outputs
   double seconds_total = 0;
   bool converged = false;                   ///< every remeshing met its bounds
 };
@@ -165,6 +174,29 @@ public:
     stats_.flipped_caps = c.flipped_caps;
     stats_.merged_needles = c.merged_needles;
     stats_.seconds_common = sec(tc, clock::now());
+    // The repair of each output (internal/remeshing/output_repair.h): its points only.
+    const auto tr = clock::now();
+    stats_.bad_faces_before_repair.assign(n, 0);
+    stats_.bad_faces_after_repair.assign(n, 0);
+    stats_.repair_moves.assign(n, 0);
+    const std::size_t ns = inputs_[s].number_of_vertices();
+    for (std::size_t m = 0; m < n; ++m) {
+      std::vector<char> movable(points_[m].size(), 1);
+      if (m == s)
+        std::fill(movable.begin(), movable.begin() + std::ptrdiff_t(ns), 0);
+      else
+        for (const auto& row : features) movable.at(row[s]) = 0;
+      const double eps = tolerance / 100 * internal::bbox_diagonal(inputs_[m]);
+      const internal::Output_repair_result rr =
+          internal::Output_repairer(faces_, points_[m], inputs_[m], eps, std::move(movable), m == s ? &floc_ : nullptr).run();
+      stats_.bad_faces_before_repair[m] = rr.bad_before;
+      stats_.bad_faces_after_repair[m] = rr.bad_after;
+      stats_.repair_moves[m] = rr.moves;
+      say("n-way: output " + std::to_string(m) + " repaired: " + std::to_string(rr.bad_before) + " bad faces, " +
+          std::to_string(rr.bad_after) + " left after " + std::to_string(rr.moves) + " moves in " +
+          std::to_string(rr.rounds) + " rounds");
+    }
+    stats_.seconds_repair = sec(tr, clock::now());
     stats_.converged = std::all_of(stats_.fit_converged.begin(), stats_.fit_converged.end(), [](char x) { return x != 0; });
     stats_.output_vertices = points_[s].size();
     stats_.output_faces = faces_.size();

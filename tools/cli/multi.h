@@ -120,6 +120,8 @@ inline int run_multi_remesh(const Options& o) {
     j.key("per_mesh").begin_array();
     for (std::size_t m = 0; m < meshes.size(); ++m) {
       j.begin_object().member("input", o.positional[m]).member("input_vertices", counts[m]);
+      j.member("bad_faces_before_repair", S.bad_faces_before_repair[m]).member("bad_faces_after_repair", S.bad_faces_after_repair[m]);
+      j.member("repair_moves", S.repair_moves[m]);
       if (m != S.source) {
         j.member("hausdorff_percent", checks[m].hausdorff_target).member("flipped_faces", checks[m].flipped_faces);
         j.member("flipped_at_target_folds", checks[m].flipped_at_target_folds);
@@ -132,7 +134,7 @@ inline int run_multi_remesh(const Options& o) {
       j.end_object();
     }
     j.end_array();
-    j.key("seconds").begin_object().member("read", read_s).member("total", S.seconds_total).member("verification", verify_s).end_object();
+    j.key("seconds").begin_object().member("read", read_s).member("total", S.seconds_total).member("output_repair", S.seconds_repair).member("verification", verify_s).end_object();
   });
   if (!o.quiet) {
     std::cout << "remesh: " << meshes.size() << " meshes, one face list of " << S.output_faces << " faces, "

@@ -59,6 +59,16 @@ split_edge_and_triangulate(TriangleMesh& tm, VertexPointMap vpm,
   return w;
 }
 
+/// Orientation of the triangle whose corners have barycentric coordinates a, b, c in one triangle, exact: the
+/// sign of the determinant of the three coordinate vectors, which is the orientation of the triangle of the
+/// normalized coordinates (every vector's sum is positive). Unlike a test on two of the coordinates, it needs no
+/// sum to be exactly 1: three points with one coordinate exactly 0 are on one edge of the triangle, collinear.
+inline CGAL::Orientation barycentric_orientation(const std::array<double, 3>& a, const std::array<double, 3>& b,
+                                                 const std::array<double, 3>& c) {
+  using P = Kernel::Point_3;
+  return CGAL::orientation(P(CGAL::ORIGIN), P(a[0], a[1], a[2]), P(b[0], b[1], b[2]), P(c[0], c[1], c[2]));
+}
+
 /// A path of the layout on one mesh: halfedges from its first feature to its second.
 using Halfedge_path = std::vector<WH>;
 

@@ -26,6 +26,7 @@
 
 #include <crossparam/internal/remeshing/distance_certificate.h>
 #include <crossparam/internal/remeshing/remesh_state.h>
+#include <crossparam/internal/remeshing/triangle_intersection.h>
 #include <crossparam/remeshing_verification.h>
 
 #include <CGAL/boost/graph/Euler_operations.h>
@@ -607,55 +608,10 @@ private:
   }
 
   /// Whether triangles with corners c and d of the target-shaped mesh intersect beyond the corners they share
-  /// (exact predicates): none shared, any common point; one, the opposite edge of either meets the other; two,
-  /// the other corners on one side of the shared edge in a common plane.
+  /// (faces_intersect(), exact predicates).
   bool intersect(const std::array<WV, 3>& c, const std::array<WV, 3>& d, bool d_degenerate = false) const {
-    int shared = 0, ci = -1, di = -1;
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        if (c[i] == d[j]) ++shared, ci = i, di = j;
-    const auto P = [&](WV v) -> const Point_3& { return s.pos[v]; };
     if (d_degenerate) return false; // the verifier counts a degenerate face; new faces are never collinear (test())
-    // First in floating point: the corners of one face that it does not share, all strictly on one side of the
-    // other's plane by far more than rounding, cannot meet the other face (but at a shared corner). Only the
-    // faces this does not settle (near each other's planes) go to the exact predicates.
-    if (shared < 3 && (one_side(c, d) || one_side(d, c))) return false;
-    const Kernel::Triangle_3 tc(P(c[0]), P(c[1]), P(c[2])), td(P(d[0]), P(d[1]), P(d[2]));
-    if (shared == 0) return CGAL::do_intersect(tc, td);
-    if (shared == 1) {
-      const Kernel::Segment_3 oc(P(c[(ci + 1) % 3]), P(c[(ci + 2) % 3])), od(P(d[(di + 1) % 3]), P(d[(di + 2) % 3]));
-      return CGAL::do_intersect(oc, td) || CGAL::do_intersect(od, tc);
-    }
-    if (shared == 2) {
-      int oc = -1, od = -1; // the corners not shared
-      for (int i = 0; i < 3; ++i) {
-        if (c[i] != d[0] && c[i] != d[1] && c[i] != d[2]) oc = i;
-        if (d[i] != c[0] && d[i] != c[1] && d[i] != c[2]) od = i;
-      }
-      const Point_3 &p = P(c[(oc + 1) % 3]), &q = P(c[(oc + 2) % 3]), &r = P(c[oc]), &t = P(d[od]);
-      return CGAL::coplanar(p, q, r, t) && CGAL::coplanar_orientation(p, q, r, t) == CGAL::POSITIVE;
-    }
-    return true; // the same face twice
-  }
-
-  /// Whether the corners of face e that face f does not share are all strictly on one side of f's plane, by
-  /// more than 10⁻⁹ of the product of the lengths involved (rounding of the computation is about 10⁻¹⁵ of
-  /// it, so the answer is certain); false when unsure or when e shares every corner.
-  bool one_side(const std::array<WV, 3>& f, const std::array<WV, 3>& e) const {
-    const Point_3 &a = s.pos[f[0]], &b = s.pos[f[1]], &c = s.pos[f[2]];
-    const Kernel::Vector_3 n = CGAL::cross_product(b - a, c - a);
-    const double ln = std::sqrt(n.squared_length());
-    const double span = std::sqrt(CGAL::squared_distance(a, b)) + std::sqrt(CGAL::squared_distance(a, c));
-    int side = 0;
-    for (WV v : e) {
-      if (v == f[0] || v == f[1] || v == f[2]) continue;
-      const Kernel::Vector_3 x = s.pos[v] - a;
-      const double dist = n * x, bound = 1e-9 * ln * (span + std::sqrt(x.squared_length()));
-      const int sv = dist > bound ? 1 : dist < -bound ? -1 : 0;
-      if (sv == 0 || (side != 0 && sv != side)) return false;
-      side = sv;
-    }
-    return side != 0;
+    return faces_intersect(c, d, [this](WV v) -> const Point_3& { return s.pos[v]; });
   }
 
   bool near_target_fold(const CGAL::Bbox_3& b) const { return meets_grown(b, s.eps, target_folds_); }

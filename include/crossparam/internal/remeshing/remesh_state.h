@@ -420,6 +420,59 @@ public:
            B.triangle_orientation(param[v], param[x], param[y]) == CGAL::POSITIVE;
   }
 
+  /// Removes face f if it is a zipper: a face of M_s whose corners lie on one line of the source (collinear in
+  /// its input face, barycentric_orientation(), exact), one strictly between the other two, so that it has no
+  /// area on the source although its image on M_st has. The overlay makes such faces where three of its vertices
+  /// lie on one source edge that crosses a patch border (there the edge is not straight over the base mesh).
+  /// The edge opposite the middle corner m is flipped into (m, x), x the corner beyond it: the two new faces
+  /// tile the face beyond, on the source (m lies on its edge), so the source's surface is kept. Only if that
+  /// edge is on no layout path, both new faces are positively oriented in the input face beyond (exact) and over
+  /// the base mesh, M_st gains no fold (acceptable()) and the new faces follow the target within ε/2
+  /// (edge_faces_follow_target()). Returns whether it flipped.
+  bool flip_zipper(WF f) {
+    auto& m = mesh.m;
+    const int orig = mesh.forig[f];
+    if (orig < 0) return false;
+    const WH h0 = m.halfedge(f);
+    const std::array<WV, 3> c{m.source(h0), m.target(h0), m.target(m.next(h0))};
+    std::array<std::array<double, 3>, 3> q;
+    for (int i = 0; i < 3; ++i)
+      if (!mesh.rep_in(c[i], orig, q[i])) return false;
+    if (barycentric_orientation(q[0], q[1], q[2]) != CGAL::COLLINEAR) return false;
+    // The middle corner: strictly between the other two (normalized coordinates; ties leave the face alone).
+    int k = 0;
+    auto normalized = [&](int i) {
+      const double s = q[i][0] + q[i][1] + q[i][2];
+      return Kernel::Point_2(q[i][1] / s, q[i][2] / s);
+    };
+    while (k < 3 && !CGAL::collinear_are_strictly_ordered_along_line(normalized((k + 1) % 3), normalized(k), normalized((k + 2) % 3))) ++k;
+    if (k == 3) return false; // two corners at one point of the source: a needle, not a zipper
+    const WV mid = c[k], a = c[(k + 1) % 3], b = c[(k + 2) % 3];
+    const WH h = m.halfedge(a, b), o = m.opposite(h);
+    if (m.is_border(o) || mesh.epath[m.edge(h)] != no_path) return false;
+    const WV x = m.target(m.next(o));
+    if (x == mid || m.halfedge(mid, x) != WH()) return false;
+    const int beyond = mesh.forig[m.face(o)];
+    if (beyond < 0) return false;
+    std::array<std::array<double, 3>, 4> r; // a, b, mid, x in the input face beyond
+    const WV vs[4] = {a, b, mid, x};
+    for (int i = 0; i < 4; ++i)
+      if (!mesh.rep_in(vs[i], beyond, r[i])) return false;
+    const CGAL::Orientation side = barycentric_orientation(r[1], r[0], r[3]); // the face beyond: (b, a, x)
+    if (side == CGAL::COLLINEAR || barycentric_orientation(r[0], r[3], r[2]) != side ||
+        barycentric_orientation(r[1], r[2], r[3]) != side)
+      return false;
+    const Corner ca = corner(a), cb = corner(b), cm = corner(mid), cx = corner(x);
+    if (!acceptable(std::array<Face_plan, 2>{{{&ca, &cb, &cm}, {&cb, &ca, &cx}}},
+                    std::array<Face_plan, 2>{{{&ca, &cx, &cm}, {&cb, &cm, &cx}}}))
+      return false;
+    if (!edge_faces_follow_target(cm, cx, cb, ca, 0.5 * eps)) return false;
+    touch(a, b);
+    CGAL::Euler::flip_edge(h, m);
+    mesh.forig[m.face(h)] = mesh.forig[m.face(m.opposite(h))] = beyond;
+    return true;
+  }
+
   /// Whether faces (a, b, c) and (b, a, d) of M_st lie within `lim` of the target: the midpoint of (a, b) and
   /// both centroids, each against F of the same source point.
   bool edge_faces_follow_target(const Corner& a, const Corner& b, const Corner& c, const Corner& d, double lim) const {

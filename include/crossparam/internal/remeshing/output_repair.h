@@ -1,0 +1,307 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Repair of one output of the N-way remeshing (an addition to the paper). The N outputs share one face list and
+// nothing else: each has its own points. Output k is its two-mesh remeshing's surface subdivided by the common
+// refinement (common_refinement.h), and a part of a good face can be bad by the verifier's definitions
+// (remeshing_verification.h) although the whole face is not: the flip rule tests a face at its own centroid,
+// whose nearest point on mesh k can lie across a thin part or a crease from the whole face's; a sliver's normal,
+// and whether it meets its neighbours, can be rounding.
+//
+// The repair moves points of output k only: it changes neither the face list nor any other output. A face is bad
+// when it is flipped by the verifier's rule, degenerate, or meets another face beyond their shared corners
+// (faces_intersect(), exact predicates), each away from mesh k's own folds as the verifier counts them. Rounds
+// over the bad faces try, for each of their corners that may move, a few new positions:
+//  - on an output other than the source's, the point of mesh k nearest the corner, the point of mesh k nearest
+//    the centroid of the corner's neighbours, that centroid itself, and the midpoint of the corner and its
+//    nearest point; feature vertices do not move;
+//  - on the source's output, only a vertex that the source does not have and that lies inside one source face
+//    moves, to the centroid of its neighbours in that face's barycentric coordinates, if every face around it
+//    is then oriented there as the faces that tile it (exact): the output stays the source's surface.
+// A position is kept when it makes the faces around the corner less bad than before (bad faces, intersecting
+// pairs, and any sample of a face farther than decimation_margin ε from mesh k outweighing both), so no round
+// makes the output worse, and the rounds end when one keeps nothing.
+#ifndef CROSSPARAM_INTERNAL_REMESHING_OUTPUT_REPAIR_H
+#define CROSSPARAM_INTERNAL_REMESHING_OUTPUT_REPAIR_H
+
+#include <crossparam/internal/layout_mesh.h>
+#include <crossparam/internal/remeshing/triangle_intersection.h>
+#include <crossparam/remeshing_verification.h>
+#include <crossparam/types.h>
+
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+
+#include <boost/geometry/algorithms/covered_by.hpp> // the R-tree needs these three and the strategies
+#include <boost/geometry/algorithms/equals.hpp>
+#include <boost/geometry/algorithms/intersects.hpp>
+#include <boost/geometry/geometries/box.hpp>
+#include <boost/geometry/geometries/point.hpp>
+#include <boost/geometry/index/rtree.hpp>
+#include <boost/geometry/strategies/strategies.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace crossparam {
+namespace internal {
+
+/// Rounds of the output repair at most; each tries every bad face's corners once, and the rounds end when one
+/// keeps nothing (on the bench's N-way cases the third or fourth does).
+constexpr unsigned output_repair_rounds = 12;
+
+/// Fraction of ε within which a moved corner's faces must stay of mesh k at their samples (corners, edge
+/// midpoints, centroid): the margin of the overlay decimation (overlay_decimation.h), for the same reasons.
+constexpr double output_repair_margin = 0.9;
+
+/// What the repair of one output did.
+struct Output_repair_result {
+  std::size_t bad_before = 0; ///< faces flipped, degenerate or in an intersecting pair (away from the mesh's folds) when it started
+  std::size_t bad_after = 0;  ///< and when it ended
+  std::size_t moves = 0;      ///< positions kept
+  std::size_t rounds = 0;
+};
+
+/// The repair of one output (see above). `points` are output k's, changed in place; `mesh` is mesh k (the
+/// source itself for the source's output); `eps` the tolerance in the mesh's units; `movable` per vertex;
+/// `on_source`, for the source's output only, the source face of every face of the face list.
+class Output_repairer {
+public:
+  using Faces = std::vector<std::array<std::size_t, 3>>;
+  using Points = std::vector<std::array<double, 3>>;
+
+  Output_repairer(const Faces& faces, Points& points, const Surface_mesh& mesh, double eps, std::vector<char> movable,
+                  const std::vector<Input_face_location>* on_source = nullptr)
+      : faces_(faces), out_(points), mesh_(mesh), eps_(eps), movable_(std::move(movable)), on_source_(on_source),
+        tree_(CGAL::faces(mesh).first, CGAL::faces(mesh).second, mesh) {
+    tree_.accelerate_distance_queries();
+    P_.reserve(points.size());
+    for (const auto& p : points) P_.emplace_back(p[0], p[1], p[2]);
+    star_.resize(points.size());
+    for (std::size_t f = 0; f < faces.size(); ++f)
+      for (std::size_t v : faces[f]) star_[v].push_back(std::uint32_t(f));
+    folds_ = fold_face_boxes(mesh, self_intersecting_pairs(mesh));
+    box_.resize(faces.size());
+    std::vector<Entry> entries;
+    entries.reserve(faces.size());
+    for (std::size_t f = 0; f < faces.size(); ++f) {
+      box_[f] = to_box(face_box(f));
+      entries.emplace_back(box_[f], std::uint32_t(f));
+    }
+    index_ = Index(entries.begin(), entries.end()); // bulk loading (packing): much faster than one insert each
+  }
+
+  Output_repair_result run() {
+    Output_repair_result r;
+    std::vector<char> bad(faces_.size(), 0);
+    std::vector<std::uint32_t> list;
+    for (std::size_t f = 0; f < faces_.size(); ++f)
+      if ((bad[f] = face_bad(f) || intersections(f, {}) > 0)) list.push_back(std::uint32_t(f));
+    r.bad_before = list.size();
+    for (; r.rounds < output_repair_rounds && !list.empty(); ++r.rounds) {
+      std::vector<std::uint32_t> touched = list;
+      std::size_t kept = 0;
+      for (std::uint32_t f : list)
+        for (std::size_t v : faces_[f]) {
+          if (!movable_[v]) continue;
+          // The faces whose status a move of v can change: those around v and those their boxes meet, before
+          // the move and after it.
+          std::vector<std::uint32_t> near;
+          auto collect = [&] {
+            for (std::uint32_t g : star_[v]) {
+              near.push_back(g);
+              for_each_near(g, [&](std::uint32_t h) { near.push_back(h); });
+            }
+          };
+          collect();
+          if (!try_move(v)) continue;
+          ++kept;
+          collect();
+          touched.insert(touched.end(), near.begin(), near.end());
+        }
+      r.moves += kept;
+      std::sort(touched.begin(), touched.end());
+      touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+      for (std::uint32_t f : touched) bad[f] = face_bad(f) || intersections(f, {}) > 0;
+      list.clear();
+      for (std::uint32_t f : touched)
+        if (bad[f]) list.push_back(f);
+      if (kept == 0) break;
+    }
+    r.bad_after = std::size_t(std::count(bad.begin(), bad.end(), char(1)));
+    for (std::size_t v = 0; v < P_.size(); ++v) out_[v] = {P_[v].x(), P_[v].y(), P_[v].z()};
+    return r;
+  }
+
+private:
+  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, CGAL::AABB_face_graph_triangle_primitive<Surface_mesh>>>;
+  using Index_point = boost::geometry::model::point<double, 3, boost::geometry::cs::cartesian>;
+  using Index_box = boost::geometry::model::box<Index_point>;
+  using Entry = std::pair<Index_box, std::uint32_t>;
+  /// Weight of a face beyond the margin in badness(): more than a star holds bad faces and pairs.
+  static constexpr std::size_t far_weight = 1000000;
+
+  static Index_box to_box(const CGAL::Bbox_3& b) {
+    return Index_box(Index_point(b.xmin(), b.ymin(), b.zmin()), Index_point(b.xmax(), b.ymax(), b.zmax()));
+  }
+  CGAL::Bbox_3 face_box(std::size_t f) const {
+    const auto& c = faces_[f];
+    return P_[c[0]].bbox() + P_[c[1]].bbox() + P_[c[2]].bbox();
+  }
+  Kernel::Vector_3 normal(std::size_t f) const {
+    const auto& c = faces_[f];
+    return triangle_normal(P_[c[0]], P_[c[1]], P_[c[2]]);
+  }
+  bool near_fold(const CGAL::Bbox_3& b) const { return meets_grown(b, eps_, folds_); }
+
+  /// Flipped by the verifier's rule or degenerate, away from the mesh's folds.
+  bool face_bad(std::size_t f) const {
+    const auto& c = faces_[f];
+    const Kernel::Vector_3 n = normal(f);
+    const auto nearest = tree_.closest_point_and_primitive(CGAL::centroid(P_[c[0]], P_[c[1]], P_[c[2]]));
+    if (near_fold(nearest.first.bbox())) return false;
+    if (n == CGAL::NULL_VECTOR) return true;
+    const auto g = halfedge(nearest.second, mesh_);
+    const Kernel::Vector_3 nt =
+        triangle_normal(mesh_.point(source(g, mesh_)), mesh_.point(target(g, mesh_)), mesh_.point(target(next(g, mesh_), mesh_)));
+    return n * nt < 0;
+  }
+  /// Whether a sample of face f is farther than the margin from the mesh.
+  bool far(std::size_t f) const {
+    const auto& c = faces_[f];
+    const double limit = output_repair_margin * eps_ * output_repair_margin * eps_;
+    const Point_3 &a = P_[c[0]], &b = P_[c[1]], &d = P_[c[2]];
+    for (const Point_3& x : {a, b, d, CGAL::midpoint(a, b), CGAL::midpoint(b, d), CGAL::midpoint(d, a), CGAL::centroid(a, b, d)})
+      if (tree_.squared_distance(x) > limit) return true;
+    return false;
+  }
+  /// Calls `visit(g)` for every face g whose box, as entered, meets face f's present box.
+  template <class Visit>
+  void for_each_near(std::size_t f, Visit visit) const {
+    const Index_box q = to_box(face_box(f));
+    for (auto it = index_.qbegin(boost::geometry::index::intersects(q)); it != index_.qend(); ++it)
+      if (it->second != f) visit(it->second);
+  }
+  /// Faces that face f intersects away from the folds, those of `skip` (a star, tested on its own) left out.
+  std::size_t intersections(std::size_t f, const std::vector<std::uint32_t>& skip) const {
+    if (normal(f) == CGAL::NULL_VECTOR) return 0; // counted by face_bad()
+    const auto P = [this](std::size_t v) -> const Point_3& { return P_[v]; };
+    std::size_t n = 0;
+    const CGAL::Bbox_3 bf = face_box(f);
+    for_each_near(f, [&](std::uint32_t g) {
+      if (std::find(skip.begin(), skip.end(), g) != skip.end() || normal(g) == CGAL::NULL_VECTOR) return;
+      if (faces_intersect(faces_[f], faces_[g], P) && !near_fold(bf + face_box(g))) ++n;
+    });
+    return n;
+  }
+  /// How bad the faces around v are: bad faces, intersecting pairs, and far faces weighted far_weight.
+  std::size_t badness(std::size_t v) const {
+    const auto& star = star_[v];
+    const auto P = [this](std::size_t x) -> const Point_3& { return P_[x]; };
+    std::size_t b = 0;
+    for (std::size_t i = 0; i < star.size(); ++i) {
+      const std::uint32_t f = star[i];
+      b += face_bad(f) + intersections(f, star) + (on_source_ ? 0 : far_weight * far(f));
+      if (normal(f) == CGAL::NULL_VECTOR) continue;
+      for (std::size_t j = i + 1; j < star.size(); ++j)
+        if (normal(star[j]) != CGAL::NULL_VECTOR && faces_intersect(faces_[f], faces_[star[j]], P) &&
+            !near_fold(face_box(f) + face_box(star[j])))
+          ++b;
+    }
+    return b;
+  }
+
+  /// Tries the new positions of v; keeps the least bad if it is less bad than v's present one.
+  bool try_move(std::size_t v) {
+    const std::vector<Point_3> candidates = on_source_ ? source_candidates(v) : mesh_candidates(v);
+    if (candidates.empty()) return false;
+    const Point_3 old = P_[v];
+    const std::size_t before = badness(v);
+    if (before == 0) return false;
+    std::size_t best = before;
+    Point_3 chosen = old;
+    for (const Point_3& x : candidates) {
+      P_[v] = x;
+      const std::size_t b = badness(v);
+      if (b < best) best = b, chosen = x;
+    }
+    P_[v] = old;
+    if (!(best < before)) return false;
+    for (std::uint32_t f : star_[v]) index_.remove(Entry(box_[f], f));
+    P_[v] = chosen;
+    for (std::uint32_t f : star_[v]) {
+      box_[f] = to_box(face_box(f));
+      index_.insert(Entry(box_[f], f));
+    }
+    return true;
+  }
+
+  std::vector<Point_3> mesh_candidates(std::size_t v) const {
+    Kernel::Vector_3 sum = CGAL::NULL_VECTOR;
+    std::size_t n = 0;
+    for (std::uint32_t f : star_[v])
+      for (std::size_t w : faces_[f])
+        if (w != v) sum = sum + (P_[w] - CGAL::ORIGIN), ++n; // each neighbour twice: the centroid is the same
+    const Point_3 centre = CGAL::ORIGIN + sum / double(n);
+    const Point_3 near = tree_.closest_point(P_[v]);
+    return {near, tree_.closest_point(centre), centre, CGAL::midpoint(P_[v], near)};
+  }
+
+  /// The centroid of v's neighbours in barycentric coordinates of the one source face around v, if there is one
+  /// and every face around v then has the orientation of the faces that tile it there (exact,
+  /// barycentric_orientation()); the faces around v keep tiling the same part of that source face.
+  std::vector<Point_3> source_candidates(std::size_t v) const {
+    const auto& L = *on_source_;
+    if (star_[v].empty()) return {};
+    const Input_face_location& home = L[star_[v].front()];
+    std::array<double, 3> sum{0, 0, 0};
+    std::size_t n = 0;
+    double area = 0; // of the star, in normalized coordinates: its sign is the tiling's orientation
+    for (std::uint32_t f : star_[v]) {
+      const Input_face_location& l = L[f];
+      if (l.face != home.face || l.vertices != home.vertices) return {}; // on a source edge or vertex
+      std::array<std::array<double, 3>, 3> q;
+      for (std::size_t c = 0; c < 3; ++c) {
+        const double t = l.corners[c][0] + l.corners[c][1] + l.corners[c][2];
+        for (std::size_t k = 0; k < 3; ++k) q[c][k] = l.corners[c][k] / t;
+        if (faces_[f][c] != v) {
+          for (std::size_t k = 0; k < 3; ++k) sum[k] += q[c][k];
+          ++n;
+        }
+      }
+      area += (q[1][1] - q[0][1]) * (q[2][2] - q[0][2]) - (q[2][1] - q[0][1]) * (q[1][2] - q[0][2]);
+    }
+    const CGAL::Orientation want = area > 0 ? CGAL::POSITIVE : area < 0 ? CGAL::NEGATIVE : CGAL::COLLINEAR;
+    if (want == CGAL::COLLINEAR || n == 0) return {};
+    const std::array<double, 3> b{sum[0] / double(n), sum[1] / double(n), sum[2] / double(n)};
+    for (std::uint32_t f : star_[v]) {
+      std::array<std::array<double, 3>, 3> q;
+      for (std::size_t c = 0; c < 3; ++c) q[c] = faces_[f][c] == v ? b : L[f].corners[c];
+      if (barycentric_orientation(q[0], q[1], q[2]) != want) return {};
+    }
+    const auto corner = [this](std::size_t i) { return mesh_.point(Surface_mesh::Vertex_index(Surface_mesh::size_type(i))); };
+    const Point_3 &a = corner(home.vertices[0]), &p = corner(home.vertices[1]), &c = corner(home.vertices[2]);
+    return {Point_3(b[0] * a.x() + b[1] * p.x() + b[2] * c.x(), b[0] * a.y() + b[1] * p.y() + b[2] * c.y(),
+                    b[0] * a.z() + b[1] * p.z() + b[2] * c.z())};
+  }
+
+  const Faces& faces_;
+  Points& out_;
+  const Surface_mesh& mesh_;
+  double eps_;
+  std::vector<char> movable_;
+  const std::vector<Input_face_location>* on_source_;
+  Tree tree_;
+  std::vector<Point_3> P_;
+  std::vector<std::vector<std::uint32_t>> star_;
+  std::vector<CGAL::Bbox_3> folds_;
+  std::vector<Index_box> box_;
+  using Index = boost::geometry::index::rtree<Entry, boost::geometry::index::rstar<16>>;
+  Index index_;
+};
+
+} // namespace internal
+} // namespace crossparam
+
+#endif // CROSSPARAM_INTERNAL_REMESHING_OUTPUT_REPAIR_H
