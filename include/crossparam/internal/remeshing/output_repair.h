@@ -11,8 +11,10 @@
 // (faces_intersect(), exact predicates), each away from mesh k's own folds as the verifier counts them. Rounds
 // over the bad faces try, for each of their corners that may move, a few new positions:
 //  - on an output other than the source's, the point of mesh k nearest the corner, the point of mesh k nearest
-//    the centroid of the corner's neighbours, that centroid itself, and the midpoint of the corner and its
-//    nearest point; feature vertices do not move;
+//    the centroid of the corner's neighbours, that centroid itself, the midpoint of the corner and its nearest
+//    point, and the points nearest the corner and the centroid among mesh k's faces within ε that face the way
+//    the corner's faces do (across a thin part the nearest point can be on the other side); feature vertices
+//    do not move;
 //  - on the source's output, only a vertex that the source does not have and that lies inside one source face
 //    moves, to the centroid of its neighbours in that face's barycentric coordinates, if every face around it
 //    is then oriented there as the faces that tile it (exact): the output stays the source's surface.
@@ -41,7 +43,9 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace crossparam {
@@ -54,6 +58,12 @@ constexpr unsigned output_repair_rounds = 12;
 /// Fraction of ε within which a moved corner's faces must stay of mesh k at their samples (corners, edge
 /// midpoints, centroid): the margin of the overlay decimation (overlay_decimation.h), for the same reasons.
 constexpr double output_repair_margin = 0.9;
+
+/// Barycentric coordinate (in the nearest face of the mesh) below which the nearest point of a face's centroid
+/// counts as on that face's edge, or at its vertex, in the flip test of the repair (Output_repairer::face_bad()):
+/// there the verifier's search may meet any of the faces around it first. The point is computed to about 10⁻¹⁶;
+/// 10⁻⁹ is far above that and below any position that matters.
+constexpr double output_repair_tie = 1e-9;
 
 /// What the repair of one output did.
 struct Output_repair_result {
@@ -96,8 +106,18 @@ public:
     Output_repair_result r;
     std::vector<char> bad(faces_.size(), 0);
     std::vector<std::uint32_t> list;
+    const auto P = [this](std::size_t v) -> const Point_3& { return P_[v]; };
+    for (std::size_t f = 0; f < faces_.size(); ++f) {
+      bad[f] = bad[f] || face_bad(f);
+      if (normal(f) == CGAL::NULL_VECTOR) continue;
+      for_each_near(f, [&](std::uint32_t g) { // each pair once
+        if (g > f && normal(g) != CGAL::NULL_VECTOR && faces_intersect(faces_[f], faces_[g], P) &&
+            !near_fold(face_box(f) + face_box(g)))
+          bad[f] = bad[g] = 1;
+      });
+    }
     for (std::size_t f = 0; f < faces_.size(); ++f)
-      if ((bad[f] = face_bad(f) || intersections(f, {}) > 0)) list.push_back(std::uint32_t(f));
+      if (bad[f]) list.push_back(std::uint32_t(f));
     r.bad_before = list.size();
     for (; r.rounds < output_repair_rounds && !list.empty(); ++r.rounds) {
       std::vector<std::uint32_t> touched = list;
@@ -155,17 +175,49 @@ private:
   }
   bool near_fold(const CGAL::Bbox_3& b) const { return meets_grown(b, eps_, folds_); }
 
-  /// Flipped by the verifier's rule or degenerate, away from the mesh's folds.
+  Kernel::Vector_3 mesh_normal(Surface_mesh::Face_index t) const {
+    const auto g = halfedge(t, mesh_);
+    return triangle_normal(mesh_.point(source(g, mesh_)), mesh_.point(target(g, mesh_)), mesh_.point(target(next(g, mesh_), mesh_)));
+  }
+  /// Flipped by the verifier's rule or degenerate, away from the mesh's folds, whichever corner its normal is
+  /// computed from. Where the nearest point of the
+  /// mesh is on one of its edges or vertices (within output_repair_tie of its face's size), the verifier's
+  /// answer depends on which face there its search meets first: the face is bad if it opposes any of them.
   bool face_bad(std::size_t f) const {
     const auto& c = faces_[f];
-    const Kernel::Vector_3 n = normal(f);
     const auto nearest = tree_.closest_point_and_primitive(CGAL::centroid(P_[c[0]], P_[c[1]], P_[c[2]]));
     if (near_fold(nearest.first.bbox())) return false;
-    if (n == CGAL::NULL_VECTOR) return true;
-    const auto g = halfedge(nearest.second, mesh_);
-    const Kernel::Vector_3 nt =
-        triangle_normal(mesh_.point(source(g, mesh_)), mesh_.point(target(g, mesh_)), mesh_.point(target(next(g, mesh_), mesh_)));
-    return n * nt < 0;
+    // The normal from each corner: they differ by rounding, which decides the sign for a needle near 90°; the
+    // verifier takes the corners in the order of the face's halfedge, which a mesh made from the face list may
+    // start anywhere.
+    const std::array<Kernel::Vector_3, 3> ns{triangle_normal(P_[c[0]], P_[c[1]], P_[c[2]]),
+                                             triangle_normal(P_[c[1]], P_[c[2]], P_[c[0]]),
+                                             triangle_normal(P_[c[2]], P_[c[0]], P_[c[1]])};
+    for (const auto& n : ns)
+      if (n == CGAL::NULL_VECTOR) return true;
+    auto opposes = [&](const Kernel::Vector_3& nt) { return ns[0] * nt < 0 || ns[1] * nt < 0 || ns[2] * nt < 0; };
+    if (opposes(mesh_normal(nearest.second))) return true;
+    // The faces that share the nearest point: across an edge it is on, around a vertex it is at.
+    const auto h = halfedge(nearest.second, mesh_);
+    const std::array<Surface_mesh::Halfedge_index, 3> hs{h, next(h, mesh_), prev(h, mesh_)};
+    const Point_3 &a = mesh_.point(source(h, mesh_)), &b = mesh_.point(target(h, mesh_)), &d = mesh_.point(target(next(h, mesh_), mesh_));
+    const double area = std::sqrt(triangle_normal(a, b, d).squared_length());
+    if (!(area > 0)) return false;
+    const Point_3& q = nearest.first;
+    // Barycentric coordinate opposite each edge of hs: the area of q with that edge, over the face's.
+    const std::array<double, 3> w{std::sqrt(triangle_normal(a, b, q).squared_length()) / area,
+                                  std::sqrt(triangle_normal(b, d, q).squared_length()) / area,
+                                  std::sqrt(triangle_normal(d, a, q).squared_length()) / area};
+    for (int i = 0; i < 3; ++i) {
+      if (!(w[i] < output_repair_tie)) continue;
+      const auto o = opposite(hs[i], mesh_);
+      if (!is_border(o, mesh_) && opposes(mesh_normal(face(o, mesh_)))) return true;
+      // At a vertex: the end this edge shares with the next edge (hs[i + 1]) if q is on that one too.
+      if (w[(i + 1) % 3] < output_repair_tie)
+        for (const auto t : CGAL::faces_around_target(hs[i], mesh_))
+          if (t != Surface_mesh::null_face() && opposes(mesh_normal(t))) return true;
+    }
+    return false;
   }
   /// Whether a sample of face f is farther than the margin from the mesh.
   bool far(std::size_t f) const {
@@ -245,7 +297,33 @@ private:
         if (w != v) sum = sum + (P_[w] - CGAL::ORIGIN), ++n; // each neighbour twice: the centroid is the same
     const Point_3 centre = CGAL::ORIGIN + sum / double(n);
     const Point_3 near = tree_.closest_point(P_[v]);
-    return {near, tree_.closest_point(centre), centre, CGAL::midpoint(P_[v], near)};
+    std::vector<Point_3> out{near, tree_.closest_point(centre), centre, CGAL::midpoint(P_[v], near)};
+    // Where a thin part or a crease of the mesh is nearer than the side v's faces stand for: the nearest points
+    // on the faces of the mesh within ε that face the way v's faces do (the sum of their normals).
+    Kernel::Vector_3 facing = CGAL::NULL_VECTOR;
+    for (std::uint32_t f : star_[v]) facing = facing + normal(f);
+    for (const Point_3& x : {P_[v], centre})
+      if (const auto q = nearest_facing(x, facing)) out.push_back(*q);
+    return out;
+  }
+
+  /// The point nearest x on the faces of the mesh within ε of x whose normal makes an acute angle with `facing`.
+  std::optional<Point_3> nearest_facing(const Point_3& x, const Kernel::Vector_3& facing) const {
+    if (facing == CGAL::NULL_VECTOR) return std::nullopt;
+    std::vector<Surface_mesh::Face_index> near;
+    const CGAL::Bbox_3 box(x.x() - eps_, x.y() - eps_, x.z() - eps_, x.x() + eps_, x.y() + eps_, x.z() + eps_);
+    tree_.all_intersected_primitives(box, std::back_inserter(near));
+    std::optional<Point_3> best;
+    double best_d = HUGE_VAL;
+    for (const auto t : near) {
+      if (!(mesh_normal(t) * facing > 0)) continue;
+      const auto h = halfedge(t, mesh_);
+      const Kernel::Triangle_3 T(mesh_.point(source(h, mesh_)), mesh_.point(target(h, mesh_)), mesh_.point(target(next(h, mesh_), mesh_)));
+      const Point_3 q = Kernel().construct_projected_point_3_object()(T, x);
+      const double d = CGAL::squared_distance(q, x);
+      if (d < best_d) best_d = d, best = q;
+    }
+    return best;
   }
 
   /// The centroid of v's neighbours in barycentric coordinates of the one source face around v, if there is one

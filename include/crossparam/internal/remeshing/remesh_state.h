@@ -462,13 +462,7 @@ public:
     if (side == CGAL::COLLINEAR || barycentric_orientation(r[0], r[3], r[2]) != side ||
         barycentric_orientation(r[1], r[2], r[3]) != side)
       return false;
-    const Corner ca = corner(a), cb = corner(b), cm = corner(mid), cx = corner(x);
-    if (!acceptable(std::array<Face_plan, 2>{{{&ca, &cb, &cm}, {&cb, &ca, &cx}}},
-                    std::array<Face_plan, 2>{{{&ca, &cx, &cm}, {&cb, &cm, &cx}}}))
-      return false;
-    if (!edge_faces_follow_target(cm, cx, cb, ca, 0.5 * eps)) return false;
-    touch(a, b);
-    CGAL::Euler::flip_edge(h, m);
+    if (!flip_if_target_follows(h)) return false;
     mesh.forig[m.face(h)] = mesh.forig[m.face(m.opposite(h))] = beyond;
     return true;
   }
@@ -493,9 +487,13 @@ public:
   /// and the new faces follow the target within ε/2 (edge_faces_follow_target()), so that the flip brings no
   /// part of the output farther from the target. No vertex moves and none is added: F is kept at every vertex.
   /// Returns whether it flipped.
-  bool flip(WH h) {
+  bool flip(WH h) { return flip_keeps_source(h) && flip_if_target_follows(h); }
+
+  /// The part of an edge flip that M_st judges: flips edge (u, v) of halfedge h into (x, y), x and y its
+  /// opposite corners, if M_st gains no fold (acceptable()) and the new faces follow the target within ε/2
+  /// (edge_faces_follow_target()). Returns whether it flipped.
+  bool flip_if_target_follows(WH h) {
     auto& m = mesh.m;
-    if (!flip_keeps_source(h)) return false;
     const WH o = m.opposite(h);
     const WV u = m.source(h), v = m.target(h), x = m.target(m.next(h)), y = m.target(m.next(o));
     const Corner cu = corner(u), cv = corner(v), cx = corner(x), cy = corner(y);
