@@ -19,7 +19,7 @@
 //    moves, to the centroid of its neighbours in that face's barycentric coordinates, if every face around it
 //    is then oriented there as the faces that tile it (exact): the output stays the source's surface.
 // A position is kept when it makes the faces around the corner less bad than before (bad faces, intersecting
-// pairs, and any sample of a face farther than decimation_margin ε from mesh k outweighing both), so no round
+// pairs, and any sample of a face farther than output_repair_margin ε from mesh k outweighing both), so no round
 // makes the output worse, and the rounds end when one keeps nothing.
 #ifndef CROSSPARAM_INTERNAL_REMESHING_OUTPUT_REPAIR_H
 #define CROSSPARAM_INTERNAL_REMESHING_OUTPUT_REPAIR_H
@@ -52,11 +52,12 @@ namespace crossparam {
 namespace internal {
 
 /// Rounds of the output repair at most; each tries every bad face's corners once, and the rounds end when one
-/// keeps nothing (on the bench's N-way cases the third or fourth does).
+/// keeps nothing (on bench_multi/fourleg5 and the three wolves the second or third does).
 constexpr unsigned output_repair_rounds = 12;
 
 /// Fraction of ε within which a moved corner's faces must stay of mesh k at their samples (corners, edge
-/// midpoints, centroid): the margin of the overlay decimation (overlay_decimation.h), for the same reasons.
+/// midpoints, centroid): the margin of the overlay decimation (overlay_decimation.h), for the same reasons (the
+/// verifier measures to 1 % of ε, and positions are rounded).
 constexpr double output_repair_margin = 0.9;
 
 /// Barycentric coordinate (in the nearest face of the mesh) below which the nearest point of a face's centroid
