@@ -33,14 +33,6 @@
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 
-#include <boost/geometry/algorithms/covered_by.hpp> // the R-tree needs these three and the strategies
-#include <boost/geometry/algorithms/equals.hpp>
-#include <boost/geometry/algorithms/intersects.hpp>
-#include <boost/geometry/geometries/box.hpp>
-#include <boost/geometry/geometries/point.hpp>
-#include <boost/geometry/index/rtree.hpp>
-#include <boost/geometry/strategies/strategies.hpp>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -94,13 +86,13 @@ public:
       for (std::size_t v : faces[f]) star_[v].push_back(std::uint32_t(f));
     folds_ = fold_face_boxes(mesh, self_intersecting_pairs(mesh));
     box_.resize(faces.size());
-    std::vector<Entry> entries;
+    std::vector<Face_box_entry> entries;
     entries.reserve(faces.size());
     for (std::size_t f = 0; f < faces.size(); ++f) {
-      box_[f] = to_box(face_box(f));
+      box_[f] = to_face_box(face_box(f));
       entries.emplace_back(box_[f], std::uint32_t(f));
     }
-    index_ = Index(entries.begin(), entries.end()); // bulk loading (packing): much faster than one insert each
+    index_ = Face_box_index(entries.begin(), entries.end()); // bulk loading (packing): much faster than one insert each
   }
 
   Output_repair_result run() {
@@ -157,15 +149,9 @@ public:
 
 private:
   using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, CGAL::AABB_face_graph_triangle_primitive<Surface_mesh>>>;
-  using Index_point = boost::geometry::model::point<double, 3, boost::geometry::cs::cartesian>;
-  using Index_box = boost::geometry::model::box<Index_point>;
-  using Entry = std::pair<Index_box, std::uint32_t>;
   /// Weight of a face beyond the margin in badness(): more than a star holds bad faces and pairs.
   static constexpr std::size_t far_weight = 1000000;
 
-  static Index_box to_box(const CGAL::Bbox_3& b) {
-    return Index_box(Index_point(b.xmin(), b.ymin(), b.zmin()), Index_point(b.xmax(), b.ymax(), b.zmax()));
-  }
   CGAL::Bbox_3 face_box(std::size_t f) const {
     const auto& c = faces_[f];
     return P_[c[0]].bbox() + P_[c[1]].bbox() + P_[c[2]].bbox();
@@ -232,7 +218,7 @@ private:
   /// Calls `visit(g)` for every face g whose box, as entered, meets face f's present box.
   template <class Visit>
   void for_each_near(std::size_t f, Visit visit) const {
-    const Index_box q = to_box(face_box(f));
+    const Face_box q = to_face_box(face_box(f));
     for (auto it = index_.qbegin(boost::geometry::index::intersects(q)); it != index_.qend(); ++it)
       if (it->second != f) visit(it->second);
   }
@@ -281,11 +267,11 @@ private:
     }
     P_[v] = old;
     if (!(best < before)) return false;
-    for (std::uint32_t f : star_[v]) index_.remove(Entry(box_[f], f));
+    for (std::uint32_t f : star_[v]) index_.remove(Face_box_entry(box_[f], f));
     P_[v] = chosen;
     for (std::uint32_t f : star_[v]) {
-      box_[f] = to_box(face_box(f));
-      index_.insert(Entry(box_[f], f));
+      box_[f] = to_face_box(face_box(f));
+      index_.insert(Face_box_entry(box_[f], f));
     }
     return true;
   }
@@ -375,9 +361,8 @@ private:
   std::vector<Point_3> P_;
   std::vector<std::vector<std::uint32_t>> star_;
   std::vector<CGAL::Bbox_3> folds_;
-  std::vector<Index_box> box_;
-  using Index = boost::geometry::index::rtree<Entry, boost::geometry::index::rstar<16>>;
-  Index index_;
+  std::vector<Face_box> box_;
+  Face_box_index index_;
 };
 
 } // namespace internal

@@ -33,14 +33,6 @@
 #include <CGAL/intersections.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 
-#include <boost/geometry/algorithms/covered_by.hpp> // the R-tree needs these three and the strategies
-#include <boost/geometry/algorithms/equals.hpp>
-#include <boost/geometry/algorithms/intersects.hpp>
-#include <boost/geometry/geometries/box.hpp>
-#include <boost/geometry/geometries/point.hpp>
-#include <boost/geometry/index/rtree.hpp>
-#include <boost/geometry/strategies/strategies.hpp>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -350,7 +342,7 @@ private:
     for (const auto& c : plan.faces) {
       const CGAL::Bbox_3 box = s.pos[c[0]].bbox() + s.pos[c[1]].bbox() + s.pos[c[2]].bbox();
       const WF h = plan.home[std::size_t(&c - plan.faces.data())];
-      for (auto it = index_.qbegin(boost::geometry::index::intersects(to_box(box))); it != index_.qend(); ++it) {
+      for (auto it = index_.qbegin(boost::geometry::index::intersects(to_face_box(box))); it != index_.qend(); ++it) {
         const WF g(it->second);
         if (stamp_[g] == current_ || (h != WF() && home_[g] != WF() && touching_homes(h, home_[g]))) continue;
         ++r.face_pairs;
@@ -623,7 +615,7 @@ private:
     for (WF f : CGAL::faces_around_target(m.halfedge(u), m)) star.push_back(f);
     std::vector<std::array<std::size_t, 3>> keys;
     for (const auto& c : plan.faces) keys.push_back(sorted(c));
-    for (WF f : star) index_.remove(Entry(to_box(box_[f]), std::uint32_t(f)));
+    for (WF f : star) index_.remove(Face_box_entry(to_face_box(box_[f]), std::uint32_t(f)));
     const WH pt = m.opposite(m.prev(h)), qb = m.opposite(m.prev(m.opposite(h)));
     CGAL::Euler::join_face(pt, m);
     CGAL::Euler::join_face(qb, m);
@@ -643,16 +635,6 @@ private:
     return k;
   }
 
-  // The target-shaped mesh's faces in an R-tree of their boxes (Boost.Geometry's, R*-tree nodes of at most
-  // 16), for the intersection tests: a query visits the faces whose boxes meet the new face's, at any mix of
-  // face sizes (the overlay's many small faces where the map squeezes beside the decimated mesh's large
-  // ones). A collapse takes its star's faces out and enters the faces it makes.
-  using Index_point = boost::geometry::model::point<double, 3, boost::geometry::cs::cartesian>;
-  using Index_box = boost::geometry::model::box<Index_point>;
-  using Entry = std::pair<Index_box, std::uint32_t>; // a face's box as entered, the face
-  static Index_box to_box(const CGAL::Bbox_3& b) {
-    return Index_box(Index_point(b.xmin(), b.ymin(), b.zmin()), Index_point(b.xmax(), b.ymax(), b.zmax()));
-  }
   /// The target face that holds every corner of the face with corners c (each within decimation_home_snap ε
   /// of it), if one does: one of the corners' own target faces (s.img), or one around the first corner's when
   /// that corner is on its border (a corner on a target edge or vertex is located in any of the faces there,
@@ -701,18 +683,18 @@ private:
     return false;
   }
   /// Records f's box, degeneracy and home and returns its entry.
-  Entry record(WF f) {
+  Face_box_entry record(WF f) {
     const std::array<WV, 3> c = corners(f);
     home_[f] = home(c);
     box_[f] = s.pos[c[0]].bbox() + s.pos[c[1]].bbox() + s.pos[c[2]].bbox();
     degenerate_[f] = CGAL::collinear(s.pos[c[0]], s.pos[c[1]], s.pos[c[2]]);
-    return Entry(to_box(box_[f]), std::uint32_t(f));
+    return Face_box_entry(to_face_box(box_[f]), std::uint32_t(f));
   }
   void enter(WF f) { index_.insert(record(f)); }
   void build_index() {
-    std::vector<Entry> entries;
+    std::vector<Face_box_entry> entries;
     for (WF f : m.faces()) entries.push_back(record(f));
-    index_ = Index(entries.begin(), entries.end()); // bulk loading (packing): a better tree than inserting
+    index_ = Face_box_index(entries.begin(), entries.end()); // bulk loading (packing): a better tree than inserting
   }
 
   Remesh_state& s;
@@ -730,8 +712,10 @@ private:
   mutable std::vector<std::uint64_t> piece_stamp_; ///< per piece: the covers() call that last met it
   mutable std::vector<std::uint64_t> vertex_stamp_; ///< per vertex of the overlay: the covers() call that last checked it
   mutable std::uint64_t piece_visit_ = 0;
-  using Index = boost::geometry::index::rtree<Entry, boost::geometry::index::rstar<16>>;
-  Index index_;
+  // The target-shaped mesh's faces in an R-tree of their boxes (Face_box_index), for the intersection tests:
+  // it stays fast at any mix of face sizes (the overlay's many small faces where the map squeezes beside the
+  // decimated mesh's large ones). A collapse takes its star's faces out and enters the faces it makes.
+  Face_box_index index_;
   std::vector<CGAL::Bbox_3> box_;       ///< per face: its box as entered in the index
   std::vector<char> degenerate_;        ///< per face: its corners collinear (exact), as entered
   std::vector<WF> home_;                ///< per face: the target face holding it (home()), as entered

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Whether two faces of one triangle mesh intersect beyond the corners they share, as CGAL's
-// `self_intersections` counts it (exact predicates). The overlay decimation and the repair of the N-way outputs
-// test their new faces with it, one pair at a time, where the verifier tests the whole mesh.
+// `self_intersections` counts it (exact predicates), and the R-tree of face boxes that finds the pairs to test.
+// The overlay decimation and the repair of the N-way outputs test their new faces with them, one pair at a time,
+// where the verifier tests the whole mesh.
 #ifndef CROSSPARAM_INTERNAL_REMESHING_TRIANGLE_INTERSECTION_H
 #define CROSSPARAM_INTERNAL_REMESHING_TRIANGLE_INTERSECTION_H
 
@@ -9,11 +10,32 @@
 
 #include <CGAL/intersections.h>
 
+#include <boost/geometry/algorithms/covered_by.hpp> // the R-tree needs these three and the strategies
+#include <boost/geometry/algorithms/equals.hpp>
+#include <boost/geometry/algorithms/intersects.hpp>
+#include <boost/geometry/geometries/box.hpp>
+#include <boost/geometry/geometries/point.hpp>
+#include <boost/geometry/index/rtree.hpp>
+#include <boost/geometry/strategies/strategies.hpp>
+
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <utility>
 
 namespace crossparam {
 namespace internal {
+
+/// Faces by their boxes, in an R-tree (Boost.Geometry's, R*-tree nodes of at most 16): a query visits the faces
+/// whose boxes meet a given box, at any mix of face sizes. An entry is a face's box as entered and the face; a
+/// face whose corners move is taken out with that box and entered again.
+using Face_box_point = boost::geometry::model::point<double, 3, boost::geometry::cs::cartesian>;
+using Face_box = boost::geometry::model::box<Face_box_point>;
+using Face_box_entry = std::pair<Face_box, std::uint32_t>;
+using Face_box_index = boost::geometry::index::rtree<Face_box_entry, boost::geometry::index::rstar<16>>;
+inline Face_box to_face_box(const CGAL::Bbox_3& b) {
+  return Face_box(Face_box_point(b.xmin(), b.ymin(), b.zmin()), Face_box_point(b.xmax(), b.ymax(), b.zmax()));
+}
 
 /// Whether the corners of face `e` that face `f` does not share are all strictly on one side of f's plane, by
 /// more than 10⁻⁹ of the product of the lengths involved (rounding of the computation is about 10⁻¹⁵ of it,
