@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-3.0-or-later
 # Regenerates the tables of doc/results.md from the bench programs. Builds nothing: build the targets
-# bench_layout, bench_map, bench_remesh, bench_accuracy and test_map first.
+# bench_layout, bench_map, bench_remesh, bench_accuracy and test_pipeline first.
 #
 #   bash benchmark/make_results.sh [BUILD_DIR [BENCH_DIR [TABLE...]]]
 #
@@ -57,9 +57,9 @@ for t in "${tables[@]}"; do
         fi
       done ;;
     accuracy)
-      need "$build/test/test_map"
+      need "$build/test/test_pipeline"
       { echo '```text'
-        "$build/test/test_map" --gtest_filter='Shared*' | grep '^\[ accuracy \]'
+        "$build/test/test_pipeline" --gtest_filter='Shared/BenchMap*' | grep '^\[ accuracy \]'
         echo '```'; } > "$tmp" ;;
     wide)           need "$build/benchmark/bench_accuracy"; "$build/benchmark/bench_accuracy" > "$tmp" ;;
     wide-off)       need "$build/benchmark/bench_accuracy"; "$build/benchmark/bench_accuracy" --extremity-features off > "$tmp" ;;

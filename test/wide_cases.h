@@ -17,6 +17,12 @@
 //     paired with the vertex of the target nearest to the same index. The target is remeshed isotropically
 //     first (as the bench/ tosca cases are), so that the two meshes do not share their triangles: the truth of
 //     source vertex i is then the position of target vertex i before remeshing, on the target's surface.
+//   - cross/A_B_kK: the cross-class pairs of correspondence/tosca/cross_class (dog0 with wolf0, horse0 and
+//     cat0, both ways): different animals of different resolutions (wolf0 4344 vertices, horse0 19248, dog0
+//     25290, cat0 27894) with BeCoS's dense template correspondence (a target face and barycentric weights per
+//     source vertex) as the truth. dog0 and cat0 have two small holes each, closed by CGAL's hole
+//     triangulation (no vertex added, the files' vertex numbering kept). K features by geodesic farthest-point
+//     sampling on the source, each paired with the corner of its truth face of largest weight.
 //
 // The error of a scored point is |F(v) - truth(v)| / sqrt(area of the target), as in test_map's Shared tests.
 #ifndef CROSSPARAM_TEST_WIDE_CASES_H
@@ -30,7 +36,10 @@
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
+#include <CGAL/Polygon_mesh_processing/border.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/remesh.h>
+#include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 
 #include <Eigen/Dense>
 
@@ -76,6 +85,14 @@ inline const std::vector<std::pair<std::string, std::vector<int>>>& tosca_classe
 inline double tosca_edge_factor(const std::string& cls) { return cls == "horse" ? 1.6 : 1.3; }
 /// Passes of the isotropic remeshing of the tosca targets.
 constexpr unsigned tosca_remeshing_iterations = 3;
+/// The cross-class pairs (source, target) of correspondence/tosca/cross_class.
+inline const std::vector<std::pair<std::string, std::string>>& cross_class_pairs() {
+  static const std::vector<std::pair<std::string, std::string>> p{
+      {"dog0", "wolf0"}, {"wolf0", "dog0"}, {"dog0", "horse0"}, {"horse0", "dog0"}, {"dog0", "cat0"}, {"cat0", "dog0"}};
+  return p;
+}
+/// Features of the cross-class cases: the tosca cases' default count.
+constexpr std::size_t cross_class_features = 12;
 /// The pinned fingertips of each hand.
 constexpr std::size_t hand_landmarks = 5;
 
@@ -105,6 +122,8 @@ inline std::vector<std::string> names() {
         for (std::size_t k : tosca_feature_counts())
           out.push_back("tosca/" + cls + std::to_string(poses[i]) + "_" + cls + std::to_string(poses[j]) + "_k" +
                         std::to_string(k));
+  for (const auto& [a, b] : cross_class_pairs())
+    out.push_back("cross/" + a + "_" + b + "_k" + std::to_string(cross_class_features));
   return out;
 }
 
@@ -185,6 +204,22 @@ inline std::vector<std::size_t> farthest_point_sample(const Surface_mesh& m, std
   return out;
 }
 
+/// Reads `path` as it is (not checked to be closed), then closes each hole by CGAL's hole triangulation, which
+/// adds faces and no vertex: the file's vertices keep their numbers. Returns the file's faces (vertex indices
+/// in file order), empty when the file is absent.
+inline std::vector<std::vector<std::size_t>> read_and_close(const fs::path& path, Surface_mesh& m) {
+  if (!fs::exists(path)) return {};
+  crossparam::Polygon_soup soup = crossparam::read_polygon_soup(path.string());
+  std::vector<Point_3> points;
+  points.reserve(soup.points.size());
+  for (const auto& p : soup.points) points.emplace_back(p[0], p[1], p[2]);
+  CGAL::Polygon_mesh_processing::polygon_soup_to_polygon_mesh(points, soup.polygons, m);
+  std::vector<Surface_mesh::Halfedge_index> holes;
+  CGAL::Polygon_mesh_processing::extract_boundary_cycles(m, std::back_inserter(holes));
+  for (auto h : holes) CGAL::Polygon_mesh_processing::triangulate_hole(m, h, CGAL::Emptyset_iterator());
+  return std::move(soup.polygons);
+}
+
 /// Case `name`, or nothing when its data is absent (../shared not there).
 inline std::optional<Case> load(const std::string& name) {
   Case c;
@@ -263,6 +298,36 @@ inline std::optional<Case> load(const std::string& name) {
       }
       c.features.push_back({v, near});
     }
+    return c;
+  }
+  if (fam == "cross") {
+    const fs::path d = data_dir() / "correspondence" / "tosca";
+    const std::size_t u1 = rest.find('_'), u2 = rest.rfind('_');
+    const std::string a = rest.substr(0, u1), b = rest.substr(u1 + 1, u2 - u1 - 1);
+    const std::size_t k = std::stoul(rest.substr(u2 + 2));
+    const fs::path corr = d / "cross_class" / ("tosca_" + a + "_tosca_" + b + "_corres.txt");
+    if (!fs::exists(corr) || read_and_close(d / (a + ".off"), c.source).empty()) return std::nullopt;
+    const std::vector<std::vector<std::size_t>> faces = read_and_close(d / (b + ".off"), c.target);
+    if (faces.empty()) return std::nullopt;
+    // Row v: the target face (0-based, in file order) and the weights of its three corners in the file's order.
+    std::ifstream in(corr);
+    std::vector<std::size_t> heaviest; // per source vertex, the corner of its truth face of largest weight
+    std::size_t f;
+    double w[3];
+    while (in >> f >> w[0] >> w[1] >> w[2]) {
+      if (f >= faces.size() || faces[f].size() != 3) throw crossparam::Input_error(corr.string() + ": bad face index");
+      double x = 0, y = 0, z = 0;
+      for (int i = 0; i < 3; ++i) {
+        const Point_3 p = point(c.target, faces[f][std::size_t(i)]);
+        x += w[i] * p.x(), y += w[i] * p.y(), z += w[i] * p.z();
+      }
+      c.dense.emplace_back(x, y, z);
+      heaviest.push_back(faces[f][std::size_t(std::max_element(w, w + 3) - w)]);
+    }
+    if (c.dense.size() != c.source.number_of_vertices())
+      throw crossparam::Input_error(corr.string() + ": not one row per source vertex");
+    for (std::size_t v : farthest_point_sample(c.source, k)) c.features.push_back({v, heaviest[v]});
+    crossparam::validate_feature_pairs(c.features, c.source.number_of_vertices(), c.target.number_of_vertices(), name);
     return c;
   }
   return std::nullopt;
