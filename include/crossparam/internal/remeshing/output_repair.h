@@ -24,6 +24,7 @@
 #ifndef CROSSPARAM_INTERNAL_REMESHING_OUTPUT_REPAIR_H
 #define CROSSPARAM_INTERNAL_REMESHING_OUTPUT_REPAIR_H
 
+#include <crossparam/internal/barycentric.h>
 #include <crossparam/internal/layout_mesh.h>
 #include <crossparam/internal/remeshing/triangle_intersection.h>
 #include <crossparam/remeshing_verification.h>
@@ -188,13 +189,9 @@ private:
     const auto h = halfedge(nearest.second, mesh_);
     const std::array<Surface_mesh::Halfedge_index, 3> hs{h, next(h, mesh_), prev(h, mesh_)};
     const Point_3 &a = mesh_.point(source(h, mesh_)), &b = mesh_.point(target(h, mesh_)), &d = mesh_.point(target(next(h, mesh_), mesh_));
-    const double area = std::sqrt(triangle_normal(a, b, d).squared_length());
-    if (!(area > 0)) return false;
-    const Point_3& q = nearest.first;
-    // Barycentric coordinate opposite each edge of hs: the area of q with that edge, over the face's.
-    const std::array<double, 3> w{std::sqrt(triangle_normal(a, b, q).squared_length()) / area,
-                                  std::sqrt(triangle_normal(b, d, q).squared_length()) / area,
-                                  std::sqrt(triangle_normal(d, a, q).squared_length()) / area};
+    // Barycentric coordinate opposite each edge of hs (a-b, b-d, d-a): those of d, a and b.
+    const std::array<double, 3> abd = barycentric_in_triangle(a, b, d, nearest.first);
+    const std::array<double, 3> w{abd[2], abd[0], abd[1]};
     for (int i = 0; i < 3; ++i) {
       if (!(w[i] < output_repair_tie)) continue;
       const auto o = opposite(hs[i], mesh_);
