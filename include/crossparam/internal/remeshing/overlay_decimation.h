@@ -62,19 +62,6 @@ constexpr double decimation_home_snap = 1e-9;
 /// that and still spares the search for corners well inside their face.
 constexpr double home_border = 1e-3;
 
-/// Smallest ratio of a new face's area to the square of its longest edge on the target-shaped mesh (an
-/// equilateral triangle has 0.43). Below it a face is a needle whose computed normal is rounding: its flip
-/// test and its intersections would be decided by noise.
-constexpr double decimation_min_shape = 1e-6;
-
-/// Smallest height of a face of the target-shaped mesh (twice its area over its longest edge), as a fraction of
-/// the tolerance ε, below which it is a needle too, whatever its shape. The overlay makes faces whose edges are
-/// 10⁻¹³ of the mesh's size where the map sends many target edges through nearly one point (eiffel_g4): there
-/// the output's coordinates, rounded after the conversion to input coordinates (about 10⁻¹⁶ of the
-/// coordinates' size), decide the normal. 10⁻⁶ ε is far below anything the tolerance can see (10⁻⁹ of the
-/// diagonal at ε = 0.1 %) and far above that rounding.
-constexpr double decimation_min_height = 1e-6;
-
 /// Passes of the needle removal (Overlay_decimator::remove_needles()) at most; each pass tries every needle
 /// once and the passes end when one removes nothing (on eiffel_g4 at 1 % the second does).
 constexpr unsigned needle_removal_passes = 16;
@@ -417,13 +404,7 @@ private:
   enum class Follow { yes, far, steep };
   /// Whether the triangle with corners c on the target-shaped mesh is a needle: its area below
   /// decimation_min_shape times its longest edge squared, or its height below decimation_min_height ε.
-  bool needle(const std::array<WV, 3>& c) const {
-    const Point_3 &a = s.pos[c[0]], &b = s.pos[c[1]], &d = s.pos[c[2]];
-    const double len2 = std::max({CGAL::squared_distance(a, b), CGAL::squared_distance(b, d), CGAL::squared_distance(d, a)});
-    const double n2 = triangle_normal(a, b, d).squared_length(); // |n| = 2 area = height × longest edge
-    const double min_height = decimation_min_height * s.eps;
-    return !(n2 > 0) || !(std::sqrt(n2) > 2 * decimation_min_shape * len2) || !(n2 > min_height * min_height * len2);
-  }
+  bool needle(const std::array<WV, 3>& c) const { return needle_triangle(s.pos[c[0]], s.pos[c[1]], s.pos[c[2]], s.eps); }
   /// Whether the triangle of the target-shaped mesh with corners `corner` (not a needle, but in the needle
   /// removal, where a needle's normal is not compared) follows the target: at its centroid (`centroid_only`)
   /// or at its nine other samples (the edge midpoints and the points at the thirds of the edges) within the

@@ -25,6 +25,30 @@
 namespace crossparam {
 namespace internal {
 
+/// Smallest ratio of a face's area to the square of its longest edge on the target-shaped mesh (an
+/// equilateral triangle has 0.43). Below it a face is a needle whose computed normal is rounding: its flip
+/// test and its intersections would be decided by noise.
+constexpr double decimation_min_shape = 1e-6;
+
+/// Smallest height of a face of the target-shaped mesh (twice its area over its longest edge), as a fraction of
+/// the tolerance ε, below which it is a needle too, whatever its shape. The overlay makes faces whose edges are
+/// 10⁻¹³ of the mesh's size where the map sends many target edges through nearly one point (eiffel_g4): there
+/// the output's coordinates, rounded after the conversion to input coordinates (about 10⁻¹⁶ of the
+/// coordinates' size), decide the normal. 10⁻⁶ ε is far below anything the tolerance can see (10⁻⁹ of the
+/// diagonal at ε = 0.1 %) and far above that rounding.
+constexpr double decimation_min_height = 1e-6;
+
+/// Whether triangle (a, b, d) of the target-shaped mesh is a needle: its area below decimation_min_shape times its
+/// longest edge squared, or its height below decimation_min_height ε. Its computed normal is rounding, and so
+/// are the flip and intersection tests on it (the decimation makes none; the strict repair counts one as bad).
+inline bool needle_triangle(const Point_3& a, const Point_3& b, const Point_3& d, double eps) {
+  const double len2 = std::max({CGAL::squared_distance(a, b), CGAL::squared_distance(b, d), CGAL::squared_distance(d, a)});
+  const double n2 = triangle_normal(a, b, d).squared_length(); // |n| = 2 area = height × longest edge
+  const double min_height = decimation_min_height * eps;
+  return !(n2 > 0) || !(std::sqrt(n2) > 2 * decimation_min_shape * len2) || !(n2 > min_height * min_height * len2);
+}
+
+
 /// What stage 3 reads of a cross-parameterization: the source's working mesh and parameterization (copied
 /// into the state and refined there), the target's working mesh, parameterization and point locator (read
 /// only), and the conversion of a location on the target's working mesh to the target as given.

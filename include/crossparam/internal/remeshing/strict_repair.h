@@ -82,8 +82,10 @@ public:
     return bad;
   }
 
-  /// The bad figure of a region: faces of `region` flipped by the standard rule, plus the face pairs with a
-  /// face in `region` that intersect away from the target's own folds; with `keep_within` > 0, plus far_weight
+  /// The bad figure of a region: faces of `region` flipped by the standard rule or needles (needle_triangle():
+  /// their normal is rounding, and the verifier, which reads the output in the input's coordinates, may find
+  /// them flipped or intersecting where these tests do not), plus the face pairs with a face in `region` that
+  /// intersect away from the target's own folds; with `keep_within` > 0, plus far_weight
   /// for each face of `region` not certified within that distance of the target (Target_untangler::far()): a
   /// repair is then never bought with such a face.
   std::size_t local_bad(const std::vector<WF>& region) const {
@@ -91,7 +93,7 @@ public:
     std::size_t n = 0;
     CGAL::Bbox_3 box;
     for (WF f : region) {
-      n += flips.flipped(f) + (keep_within > 0 && flips.far(f, keep_within) ? far_weight : 0);
+      n += flips.flipped(f) + needle(f) + (keep_within > 0 && flips.far(f, keep_within) ? far_weight : 0);
       box += face_box(f);
     }
     std::vector<char> in(m.number_of_faces(), 0);
@@ -112,6 +114,11 @@ public:
   std::size_t work() const { return work_; }
 
 private:
+  bool needle(WF f) const {
+    const auto& m = s.mesh.m;
+    const WH h = m.halfedge(f);
+    return needle_triangle(s.pos[m.source(h)], s.pos[m.target(h)], s.pos[m.target(m.next(h))], s.eps);
+  }
   CGAL::Bbox_3 face_box(WF f) const {
     const auto& m = s.mesh.m;
     CGAL::Bbox_3 b;
