@@ -209,6 +209,22 @@ TEST(Morph, CompatibilityAndInterpolation) {
 // The planar untangler behind the remesher's last step (internal/remeshing/untangle.h): a grid whose inner vertices
 // are thrown across each other is untangled with its outline held; a fan whose outline has an empty kernel
 // cannot be, and says so, also when its work bound stops it.
+// The needle test that the decimation refuses and the strict repair counts as bad: area below 1e-6 of the
+// longest edge squared, or height below 1e-6 eps, whatever the scale of the coordinates.
+TEST(Remesh, NeedleTriangles) {
+  using crossparam::Point_3;
+  using crossparam::internal::needle_triangle;
+  const double eps = 1e-3;
+  EXPECT_FALSE(needle_triangle(Point_3(0, 0, 0), Point_3(1, 0, 0), Point_3(0.5, 0.8, 0), eps));
+  EXPECT_TRUE(needle_triangle(Point_3(0, 0, 0), Point_3(1, 0, 0), Point_3(0.5, 1e-7, 0), eps));   // flat
+  EXPECT_TRUE(needle_triangle(Point_3(0, 0, 0), Point_3(1, 0, 0), Point_3(2, 0, 0), eps));        // collinear
+  EXPECT_TRUE(needle_triangle(Point_3(0, 0, 0), Point_3(0, 0, 0), Point_3(0, 1, 0), eps));        // two corners at one point
+  // A well-shaped face 1e-10 across is a needle by its height (below 1e-6 eps = 1e-9) ...
+  EXPECT_TRUE(needle_triangle(Point_3(0, 0, 0), Point_3(1e-10, 0, 0), Point_3(0, 1e-10, 0), eps));
+  // ... and not with a tolerance that small.
+  EXPECT_FALSE(needle_triangle(Point_3(0, 0, 0), Point_3(1e-10, 0, 0), Point_3(0, 1e-10, 0), 1e-12));
+}
+
 TEST(Untangle, GridWithCrossedVerticesBecomesPositive) {
   const int n = 6; // (n+1)^2 points of the unit square's grid
   std::vector<Eigen::Vector2d> p;
