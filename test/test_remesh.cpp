@@ -206,9 +206,6 @@ TEST(Morph, CompatibilityAndInterpolation) {
   EXPECT_THROW(check_compatible(a, c), Incompatible_inputs_error);
 }
 
-// The planar untangler behind the remesher's last step (internal/remeshing/untangle.h): a grid whose inner vertices
-// are thrown across each other is untangled with its outline held; a fan whose outline has an empty kernel
-// cannot be, and says so, also when its work bound stops it.
 // The needle test that the decimation refuses and the strict repair counts as bad: area below 1e-6 of the
 // longest edge squared, or height below 1e-6 eps, whatever the scale of the coordinates.
 TEST(Remesh, NeedleTriangles) {
@@ -225,6 +222,9 @@ TEST(Remesh, NeedleTriangles) {
   EXPECT_FALSE(needle_triangle(Point_3(0, 0, 0), Point_3(1e-10, 0, 0), Point_3(0, 1e-10, 0), 1e-12));
 }
 
+// The planar untangler behind the remesher's last step (internal/remeshing/untangle.h): a grid whose inner vertices
+// are thrown across each other is untangled with its outline held; a fan whose outline has an empty kernel
+// cannot be, and says so, also when its work bound stops it.
 TEST(Untangle, GridWithCrossedVerticesBecomesPositive) {
   const int n = 6; // (n+1)^2 points of the unit square's grid
   std::vector<Eigen::Vector2d> p;

@@ -402,8 +402,7 @@ private:
   }
 
   enum class Follow { yes, far, steep };
-  /// Whether the triangle with corners c on the target-shaped mesh is a needle: its area below
-  /// decimation_min_shape times its longest edge squared, or its height below decimation_min_height ε.
+  /// Whether the triangle with corners c on the target-shaped mesh is a needle (needle_triangle()).
   bool needle(const std::array<WV, 3>& c) const { return needle_triangle(s.pos[c[0]], s.pos[c[1]], s.pos[c[2]], s.eps); }
   /// Whether the triangle of the target-shaped mesh with corners `corner` (not a needle, but in the needle
   /// removal, where a needle's normal is not compared) follows the target: at its centroid (`centroid_only`)

@@ -48,7 +48,6 @@ inline bool needle_triangle(const Point_3& a, const Point_3& b, const Point_3& d
   return !(n2 > 0) || !(std::sqrt(n2) > 2 * decimation_min_shape * len2) || !(n2 > min_height * min_height * len2);
 }
 
-
 /// What stage 3 reads of a cross-parameterization: the source's working mesh and parameterization (copied
 /// into the state and refined there), the target's working mesh, parameterization and point locator (read
 /// only), and the conversion of a location on the target's working mesh to the target as given.
