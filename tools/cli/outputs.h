@@ -421,7 +421,7 @@ inline Remeshing_verification write_remesh(const Options& o, const Map& cp, cons
     j.member("refused", S.overlay_refused).member("flips", S.overlay_flips).member("complete", S.overlay_complete).member("collapses", S.overlay_collapses);
     j.member("work_bound_reached", S.overlay_work_bound_reached);
     j.member("needles_removed", S.overlay_needles_removed).member("needles_left", S.overlay_needles_left)
-        .member("zippers_flipped", S.overlay_zippers_flipped);
+        .member("zippers_flipped", S.overlay_zippers_flipped).member("zippers_folding", S.overlay_zippers_folding);
     j.member("flipped", S.overlay_flipped).member("intersecting", S.overlay_intersecting).end_object();
     j.key("surface_gaps").begin_object().member("sampled_max_before_percent", S.gap_before).member("vertices_added", S.gap_vertices);
     j.member("rounds", S.gap_rounds).member("samples_left", S.gap_samples_left).end_object();

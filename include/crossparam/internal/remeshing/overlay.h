@@ -12,8 +12,11 @@
 // target vertices a source face holds (eiffel_g4: 3.56 million vertices, 412,000 with the flips). Lawson's flips
 // (delaunay()) then fatten the faces inside each target face: the insertion's flips leave long thin ones whose
 // normals rounding decides. The source-shaped mesh stays an exact copy of the source (every vertex lies in a
-// source face, every face in one, positively oriented there) and the parameterization one-to-one (the exact test
-// of each split, insert and flip). On each face the correspondence is the affine map between its source
+// source face, every face in one) and the parameterization one-to-one (the exact test of each split, insert and
+// flip). Every face is positively oriented in its source face but for rounding: a vertex computed within
+// rounding of a line of others can leave a face there reversed or with no area (tens in an overlay of a
+// million faces); the decimation removes them and makes none (overlay_decimation.h), and the faces with no area
+// that it leaves are flipped away after it (Remesh_state::flip_zipper()). On each face the correspondence is the affine map between its source
 // triangle and its M_st triangle: F at the vertices. The overlay has many vertices; the decimation
 // (overlay_decimation.h) removes those the checks do not need.
 //

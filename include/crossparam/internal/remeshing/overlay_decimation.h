@@ -276,12 +276,12 @@ private:
       replaced.push_back(f);
     }
     if (needles_after > 0 && needles_after >= needles_before) return ++r.refused_needle, false;
-    // The source: each new face in an input face that held a face of the star, oriented as there.
+    // The source: each new face in an input face that held a face of the star, positively oriented there.
     for (const auto& c : plan.faces) {
       int found = -1;
       for (WF f : star) {
         const int o = s.mesh.forig[f];
-        if (in_input_face(c, o, f)) {
+        if (in_input_face(c, o)) {
           found = o;
           break;
         }
@@ -386,19 +386,15 @@ private:
     return n;
   }
 
-  /// Whether corners c lie in input face o (exact) and keep the orientation that face f of the star has there.
-  bool in_input_face(const std::array<WV, 3>& c, int o, WF f) const {
-    std::array<Kernel::Point_2, 3> q, qf;
-    const std::array<WV, 3> cf = corners(f);
-    for (int i = 0; i < 3; ++i) {
-      std::array<double, 3> b;
-      if (!s.mesh.rep_in(c[i], o, b)) return false;
-      q[i] = Kernel::Point_2(b[1], b[2]);
-      if (!s.mesh.rep_in(cf[i], o, b)) return false;
-      qf[i] = Kernel::Point_2(b[1], b[2]);
-    }
-    const CGAL::Orientation want = CGAL::orientation(qf[0], qf[1], qf[2]);
-    return want != CGAL::COLLINEAR && CGAL::orientation(q[0], q[1], q[2]) == want;
+  /// Whether corners c lie in input face o and are positively oriented there (exact): the source-shaped mesh
+  /// stays an exact copy of the source, each face with area on it. Not the orientation of the star's face: the
+  /// overlay can leave a face reversed or with no area on the source by rounding (a vertex computed within
+  /// rounding of an edge), which a collapse may remove and must never enlarge.
+  bool in_input_face(const std::array<WV, 3>& c, int o) const {
+    std::array<std::array<double, 3>, 3> q;
+    for (int i = 0; i < 3; ++i)
+      if (!s.mesh.rep_in(c[i], o, q[i])) return false;
+    return barycentric_orientation(q[0], q[1], q[2]) == CGAL::POSITIVE;
   }
 
   enum class Follow { yes, far, steep };

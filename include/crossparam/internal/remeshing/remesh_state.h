@@ -450,7 +450,7 @@ public:
   /// The edge opposite the middle corner m is flipped into (m, x), x the corner beyond it: the two new faces
   /// tile the face beyond, on the source (m lies on its edge), so the source's surface is kept. Only if that
   /// edge is on no layout path, both new faces are positively oriented in the input face beyond (exact) and over
-  /// the base mesh, M_st gains no fold (acceptable()) and the new faces follow the target within ε/2
+  /// the base mesh, M_st gains at most fold_slack folds (acceptable()) and the new faces follow the target within ε/2
   /// (edge_faces_follow_target()). Returns whether it flipped.
   bool flip_zipper(WF f) {
     auto& m = mesh.m;
