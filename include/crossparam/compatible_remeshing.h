@@ -435,9 +435,10 @@ private:
     o.measure();
     // Faces with no area on the source (Remesh_state::flip_zipper()): their edge flipped away where that keeps
     // the checks; until a pass flips none (each flip removes one and makes none). A zipper left then is flipped
-    // away even where that folds one face of M_st (fold slack 1), and the strict repair below mends the fold:
-    // a face with no area on the source has no normal there and no place in a common refinement with other
-    // remeshings (multi_remeshing.h), while a folded face is what that repair is for and what the verifier sees.
+    // away even where that folds one face of M_st (fold slack 1), for the strict repair below to mend (a fold it
+    // cannot mend counts in the overlay's strict figures, as the verifier counts it): a face with no area on the
+    // source has no normal there and no place in a common refinement with other remeshings (multi_remeshing.h),
+    // while a folded face is what that repair is for.
     for (int slack : {0, 1}) {
       o.fold_slack = slack;
       for (std::size_t flipped_now = 1; flipped_now > 0;) {
