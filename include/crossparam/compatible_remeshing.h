@@ -131,7 +131,7 @@ struct Remeshing_statistics {
   std::size_t overlay_needles_removed = 0;     ///< collapses of the decimation's needle removal
   std::size_t overlay_needles_left = 0;        ///< faces thinner than the decimation's needle bounds it left
   std::size_t overlay_zippers_flipped = 0;     ///< faces with no area on the source flipped away (Remesh_state::flip_zipper())
-  std::size_t overlay_zippers_folding = 0;     ///< of those, flipped although the flip folds a face of M_st (mended by the strict repair)
+  std::size_t overlay_zippers_folding = 0;     ///< of those, flipped although the flip folds a face of M_st, left to the strict repair
   std::size_t overlay_flipped = 0, overlay_intersecting = 0; ///< the strict figures of the decimated overlay
   unsigned smoothing_rounds = 0, refinement_rounds = 0;
   double tolerance = 0;              ///< ε, percent

@@ -16,8 +16,8 @@
 // flip). Every face is positively oriented in its source face but for rounding: a vertex computed within
 // rounding of a line of others can leave a face there reversed or with no area (tens in an overlay of a
 // million faces); the decimation removes them and makes none (overlay_decimation.h), and the faces with no area
-// that it leaves are flipped away after it (Remesh_state::flip_zipper()). On each face the correspondence is the affine map between its source
-// triangle and its M_st triangle: F at the vertices. The overlay has many vertices; the decimation
+// that it leaves are flipped away after it (Remesh_state::flip_zipper()). On each face the correspondence is
+// the affine map between its source triangle and its M_st triangle: F at the vertices. The overlay has many vertices; the decimation
 // (overlay_decimation.h) removes those the checks do not need.
 //
 // Crossings are computed with exact predicates in the base mesh's frame that holds both edges
