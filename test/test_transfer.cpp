@@ -457,6 +457,65 @@ TEST(MultiRemesh, OutputRepairMovesOnlyCornersOfBadFaces) {
   EXPECT_EQ(fixed, bad);
 }
 
+// A cluster that no corner can leave alone (output_repair.h, the disk repair): the points within four rings of
+// one vertex of a sphere squeezed towards it, ring k by 10⁻¹³·1000^(k−1) along x and a millionth of that across,
+// as a map that squeezes a part of another mesh to a point leaves them in the N-way common refinement: the inner
+// faces are too small for their coordinates to carry a normal, and the verifier finds intersecting pairs and the
+// sphere 2.4 % of the diagonal from the output. The repair embeds a disk around them anew: the verifier then
+// finds the output valid at 1 % (no flipped face, no intersecting pair), and only points within seven rings move.
+TEST(MultiRemesh, OutputRepairEmbedsASqueezedClusterAnew) {
+  const Surface_mesh sphere = shapes::make_deformed_sphere(85, 800, false);
+  const std::vector<std::array<std::size_t, 3>> faces = internal::face_list(sphere);
+  std::vector<std::array<double, 3>> points;
+  for (auto v : sphere.vertices()) points.push_back({sphere.point(v).x(), sphere.point(v).y(), sphere.point(v).z()});
+  const double diag = internal::bbox_diagonal(sphere);
+  auto ring = [&](const std::vector<std::size_t>& from) {
+    std::vector<std::size_t> out = from;
+    for (const auto& f : faces)
+      for (std::size_t v : from)
+        if (std::find(f.begin(), f.end(), v) != f.end()) out.insert(out.end(), f.begin(), f.end());
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+  };
+  const std::size_t centre = 100;
+  std::vector<std::vector<std::size_t>> within{{centre}}; // within[k]: the points within k rings
+  for (int k = 1; k <= 7; ++k) within.push_back(ring(within.back()));
+  std::vector<std::array<double, 3>> bad = points;
+  const auto& c = points[centre];
+  for (std::size_t k = 1; k <= 4; ++k) {
+    const double along = 1e-13 * std::pow(1000.0, double(k - 1)), across = 1e-6 * along;
+    for (std::size_t v : within[k])
+      if (!std::binary_search(within[k - 1].begin(), within[k - 1].end(), v))
+        bad[v] = {c[0] + along * (points[v][0] - c[0]), c[1] + across * (points[v][1] - c[1]),
+                  c[2] + across * (points[v][2] - c[2])};
+  }
+  auto as_mesh = [&](const std::vector<std::array<double, 3>>& p) {
+    Surface_mesh m;
+    std::vector<Point_3> pts;
+    for (const auto& x : p) pts.emplace_back(x[0], x[1], x[2]);
+    std::vector<std::vector<std::size_t>> polys;
+    for (const auto& f : faces) polys.push_back({f[0], f[1], f[2]});
+    PMP::polygon_soup_to_polygon_mesh(pts, polys, m);
+    return m;
+  };
+  const Remeshing_verification before = verify_compatible_remeshing(sphere, sphere, sphere, as_mesh(bad), 1.0);
+  EXPECT_GT(before.new_self_intersections, 0u);
+  EXPECT_GT(before.hausdorff_target, 1.0); // percent of the diagonal
+  std::vector<std::array<double, 3>> moved = bad;
+  const internal::Output_repair_result r =
+      internal::Output_repairer(faces, moved, sphere, 0.01 * diag, std::vector<char>(points.size(), 1)).run();
+  EXPECT_GT(r.bad_before, 0u);
+  EXPECT_EQ(r.bad_after, 0u);
+  EXPECT_GE(r.disks, 1u);
+  for (std::size_t v = 0; v < points.size(); ++v)
+    if (moved[v] != bad[v]) EXPECT_TRUE(std::binary_search(within[7].begin(), within[7].end(), v)) << "vertex " << v;
+  const Remeshing_verification after = verify_compatible_remeshing(sphere, sphere, sphere, as_mesh(moved), 1.0);
+  EXPECT_EQ(after.flipped_faces, 0u);
+  EXPECT_EQ(after.new_self_intersections, 0u);
+  EXPECT_TRUE(after.valid) << after.message;
+}
+
 // On the source's output the repair keeps the source's surface: a vertex inside one source face, put where the
 // faces around it flip, goes to the centroid of its neighbours in that face's barycentric coordinates.
 TEST(MultiRemesh, OutputRepairOnTheSourceStaysInItsFace) {

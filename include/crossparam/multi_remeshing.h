@@ -193,7 +193,8 @@ public:
       stats_.bad_faces_after_repair[m] = rr.bad_after;
       stats_.repair_moves[m] = rr.moves;
       say("n-way: output " + std::to_string(m) + " repaired: " + std::to_string(rr.bad_before) + " bad faces, " +
-          std::to_string(rr.bad_after) + " left after " + std::to_string(rr.moves) + " moves in " +
+          std::to_string(rr.bad_after) + " left after " + std::to_string(rr.moves) + " moves and " +
+          std::to_string(rr.disks) + " disks in " +
           std::to_string(rr.rounds) + " rounds");
     }
     stats_.seconds_repair = sec(tr, clock::now());

@@ -21,6 +21,17 @@
 // A position is kept when it makes the faces around the corner less bad than before (bad faces, intersecting
 // pairs, and any sample of a face farther than output_repair_margin ε from mesh k outweighing both), so no round
 // makes the output worse, and the rounds end when one keeps nothing.
+//
+// A bad face that no move of one corner mends, on an output other than the source's, is then mended with its
+// surroundings: where one map squeezes a part of mesh k to a point, the common refinement puts there a cluster of
+// points of every other output too small for their coordinates to carry a face's normal, and no corner of the
+// cluster can move out of it alone. The repair takes the disk of faces within r rings of the bad face (r = 1, 2,
+// ... up to output_repair_disk_rings, while it is a disk: one boundary loop, Euler characteristic 1), keeps its
+// boundary and its corners that may not move, puts every other corner at the average of its neighbours (Tutte's
+// embedding with uniform weights, solved in space with the boundary held) and then at its nearest point of mesh
+// k. Of the disks that are less bad than before by the same measure, summed over their faces, it keeps the one
+// that gains most (the first with no bad face left ends the growth); passes over the bad faces left repeat while
+// one keeps a disk.
 #ifndef CROSSPARAM_INTERNAL_REMESHING_OUTPUT_REPAIR_H
 #define CROSSPARAM_INTERNAL_REMESHING_OUTPUT_REPAIR_H
 
@@ -34,11 +45,14 @@
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 
+#include <Eigen/Sparse>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <optional>
+#include <tuple>
 #include <vector>
 
 namespace crossparam {
@@ -59,11 +73,17 @@ constexpr double output_repair_margin = 0.9;
 /// 10⁻⁹ is far above that and below any position that matters.
 constexpr double output_repair_tie = 1e-9;
 
+/// Rings around a bad face that the disk repair grows to at most (see above). On bench_multi/fourleg5 the one
+/// cluster measured needs 5 (the rings within 4 of its bad face are all below 2·10⁻⁹ of the diagonal); each ring
+/// tried costs a sparse solve of the size of the disk, and a disk that stops being a disk ends the growth.
+constexpr unsigned output_repair_disk_rings = 10;
+
 /// What the repair of one output did.
 struct Output_repair_result {
   std::size_t bad_before = 0; ///< faces flipped, degenerate or in an intersecting pair (away from the mesh's folds) when it started
   std::size_t bad_after = 0;  ///< and when it ended
   std::size_t moves = 0;      ///< positions kept
+  std::size_t disks = 0;      ///< disks around a bad face embedded anew (see above)
   std::size_t rounds = 0;
 };
 
@@ -141,6 +161,22 @@ public:
       list.clear();
       for (std::uint32_t f : touched)
         if (bad[f]) list.push_back(f);
+      if (kept == 0) break;
+    }
+    // The disks around the bad faces that are left (not on the source's output: its points stay on the source),
+    // in passes while one keeps a disk.
+    for (unsigned pass = 0; !on_source_ && pass < output_repair_rounds; ++pass) {
+      std::vector<std::uint32_t> left;
+      for (std::size_t f = 0; f < faces_.size(); ++f)
+        if (bad[f]) left.push_back(std::uint32_t(f));
+      std::size_t kept = 0;
+      std::vector<std::uint32_t> touched;
+      for (std::uint32_t f : left)
+        if (bad[f] && embed_disk(f, touched)) {
+          ++kept;
+          for (std::uint32_t g : touched) bad[g] = face_bad(g) || intersections(g, {}) > 0;
+        }
+      r.disks += kept;
       if (kept == 0) break;
     }
     r.bad_after = std::size_t(std::count(bad.begin(), bad.end(), char(1)));
@@ -270,6 +306,135 @@ private:
       box_[f] = to_face_box(face_box(f));
       index_.insert(Face_box_entry(box_[f], f));
     }
+    return true;
+  }
+
+  /// Moves the points of `moved` to `to`, keeping the box index current.
+  void set_points(const std::vector<std::size_t>& moved, const std::vector<Point_3>& to) {
+    std::vector<std::uint32_t> fs;
+    for (std::size_t v : moved) fs.insert(fs.end(), star_[v].begin(), star_[v].end());
+    std::sort(fs.begin(), fs.end());
+    fs.erase(std::unique(fs.begin(), fs.end()), fs.end());
+    for (std::uint32_t f : fs) index_.remove(Face_box_entry(box_[f], f));
+    for (std::size_t i = 0; i < moved.size(); ++i) P_[moved[i]] = to[i];
+    for (std::uint32_t f : fs) {
+      box_[f] = to_face_box(face_box(f));
+      index_.insert(Face_box_entry(box_[f], f));
+    }
+  }
+
+  /// How bad the faces of a disk are (sorted `disk`): as badness(), summed over its faces.
+  std::size_t disk_badness(const std::vector<std::uint32_t>& disk) const {
+    const auto P = [this](std::size_t x) -> const Point_3& { return P_[x]; };
+    std::size_t b = 0;
+    for (std::size_t i = 0; i < disk.size(); ++i) {
+      const std::uint32_t f = disk[i];
+      b += face_bad(f) + intersections(f, disk) + far_weight * far(f);
+      if (normal(f) == CGAL::NULL_VECTOR) continue;
+      const CGAL::Bbox_3 bf = face_box(f);
+      for (std::size_t j = i + 1; j < disk.size(); ++j)
+        if (CGAL::do_overlap(bf, face_box(disk[j])) && normal(disk[j]) != CGAL::NULL_VECTOR &&
+            faces_intersect(faces_[f], faces_[disk[j]], P) &&
+            !near_fold(face_box(f) + face_box(disk[j])))
+          ++b;
+    }
+    return b;
+  }
+
+  /// The disk repair of bad face f (see above). On success `touched` holds the faces whose status may have
+  /// changed: the disk's and those their boxes meet.
+  bool embed_disk(std::uint32_t f, std::vector<std::uint32_t>& touched) {
+    std::vector<std::uint32_t> disk{f};
+    // The best disk so far: its faces, its free corners and their new positions, and how much less bad it is.
+    std::vector<std::uint32_t> best_disk;
+    std::vector<std::size_t> best_free;
+    std::vector<Point_3> best_to;
+    long best_gain = 0;
+    for (unsigned ring = 1; ring <= output_repair_disk_rings; ++ring) {
+      std::vector<std::size_t> vs;
+      for (std::uint32_t g : disk) vs.insert(vs.end(), faces_[g].begin(), faces_[g].end());
+      std::sort(vs.begin(), vs.end());
+      vs.erase(std::unique(vs.begin(), vs.end()), vs.end());
+      for (std::size_t v : vs) disk.insert(disk.end(), star_[v].begin(), star_[v].end());
+      std::sort(disk.begin(), disk.end());
+      disk.erase(std::unique(disk.begin(), disk.end()), disk.end());
+      // Its corners, edges, and which corners are on its boundary or may not move.
+      std::vector<std::size_t> corners;
+      std::vector<std::pair<std::size_t, std::size_t>> edges;
+      for (std::uint32_t g : disk)
+        for (std::size_t i = 0; i < 3; ++i) {
+          corners.push_back(faces_[g][i]);
+          edges.push_back(std::minmax(faces_[g][i], faces_[g][(i + 1) % 3]));
+        }
+      std::sort(corners.begin(), corners.end());
+      corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+      std::sort(edges.begin(), edges.end());
+      std::size_t boundary_edges = 0, distinct = 0;
+      for (std::size_t i = 0; i < edges.size();) {
+        std::size_t j = i;
+        while (j < edges.size() && edges[j] == edges[i]) ++j;
+        boundary_edges += (j - i == 1);
+        ++distinct;
+        i = j;
+      }
+      if (long(corners.size()) - long(distinct) + long(disk.size()) != 1) continue; // not a disk (yet: a hole fills at the next ring)
+      std::vector<std::size_t> free;
+      for (std::size_t v : corners) {
+        const bool inside = std::all_of(star_[v].begin(), star_[v].end(),
+                                        [&](std::uint32_t g) { return std::binary_search(disk.begin(), disk.end(), g); });
+        if (inside && movable_[v]) free.push_back(v);
+      }
+      if (boundary_edges == 0 || free.empty()) continue;
+      // Tutte's embedding with uniform weights, the rest held.
+      const auto slot = [&](std::size_t v) {
+        const auto it = std::lower_bound(free.begin(), free.end(), v);
+        return it != free.end() && *it == v ? std::ptrdiff_t(it - free.begin()) : std::ptrdiff_t(-1);
+      };
+      const std::ptrdiff_t n = std::ptrdiff_t(free.size());
+      std::vector<Eigen::Triplet<double>> entries;
+      Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, 3);
+      std::vector<std::pair<std::size_t, std::size_t>> unique_edges(edges.begin(), std::unique(edges.begin(), edges.end()));
+      for (const auto& e : unique_edges) {
+        const std::ptrdiff_t a = slot(e.first), b = slot(e.second);
+        for (const auto& [i, j, other] : {std::tuple{a, b, e.second}, std::tuple{b, a, e.first}}) {
+          if (i < 0) continue;
+          entries.emplace_back(i, i, 1.0);
+          if (j >= 0)
+            entries.emplace_back(i, j, -1.0);
+          else
+            for (int k = 0; k < 3; ++k) rhs(i, k) += P_[other][k];
+        }
+      }
+      Eigen::SparseMatrix<double> A(n, n);
+      A.setFromTriplets(entries.begin(), entries.end());
+      const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
+      if (solver.info() != Eigen::Success) continue;
+      const Eigen::MatrixXd x = solver.solve(rhs);
+      std::vector<Point_3> to;
+      for (std::ptrdiff_t i = 0; i < n; ++i) to.push_back(tree_.closest_point(Point_3(x(i, 0), x(i, 1), x(i, 2))));
+      std::vector<Point_3> old;
+      for (std::size_t v : free) old.push_back(P_[v]);
+      const std::size_t before = disk_badness(disk);
+      set_points(free, to);
+      const std::size_t after = disk_badness(disk);
+      set_points(free, old);
+      if (long(before) - long(after) > best_gain) {
+        best_gain = long(before) - long(after);
+        best_disk = disk, best_free = std::move(free), best_to = std::move(to);
+        if (after == 0) break;
+      }
+    }
+    if (best_gain == 0) return false;
+    const auto collect = [&] {
+      for (std::uint32_t g : best_disk) {
+        touched.push_back(g);
+        for_each_near(g, [&](std::uint32_t h) { touched.push_back(h); });
+      }
+    };
+    touched.clear();
+    collect();
+    set_points(best_free, best_to);
+    collect();
     return true;
   }
 
