@@ -62,7 +62,8 @@ struct Multi_remeshing_statistics {
   std::vector<double> seconds_fit;          ///< per mesh: its compatible remeshing (0 for the source)
   std::vector<std::size_t> bad_faces_before_repair; ///< per mesh: its output's bad faces (flipped, degenerate, intersecting) before the output repair
   std::vector<std::size_t> bad_faces_after_repair;  ///< and after it (the repair's own count; the verifier decides)
-  std::vector<std::size_t> repair_moves;            ///< per mesh: points the output repair moved
+  std::vector<std::size_t> repair_moves;            ///< per mesh: points the output repair moved one at a time
+  std::vector<std::size_t> repair_disks;            ///< per mesh: disks around a bad face it embedded anew
   double seconds_common = 0;                ///< the common refinement
   double seconds_repair = 0;                ///< the output repair, all outputs
   double seconds_total = 0;
@@ -179,6 +180,7 @@ public:
     stats_.bad_faces_before_repair.assign(n, 0);
     stats_.bad_faces_after_repair.assign(n, 0);
     stats_.repair_moves.assign(n, 0);
+    stats_.repair_disks.assign(n, 0);
     const std::size_t ns = inputs_[s].number_of_vertices();
     for (std::size_t m = 0; m < n; ++m) {
       std::vector<char> movable(points_[m].size(), 1);
@@ -192,6 +194,7 @@ public:
       stats_.bad_faces_before_repair[m] = rr.bad_before;
       stats_.bad_faces_after_repair[m] = rr.bad_after;
       stats_.repair_moves[m] = rr.moves;
+      stats_.repair_disks[m] = rr.disks;
       say("n-way: output " + std::to_string(m) + " repaired: " + std::to_string(rr.bad_before) + " bad faces, " +
           std::to_string(rr.bad_after) + " left after " + std::to_string(rr.moves) + " moves and " +
           std::to_string(rr.disks) + " disks in " +

@@ -122,6 +122,7 @@ inline int run_multi_remesh(const Options& o) {
       j.begin_object().member("input", o.positional[m]).member("input_vertices", counts[m]);
       j.member("bad_faces_before_repair", S.bad_faces_before_repair[m]).member("bad_faces_after_repair", S.bad_faces_after_repair[m]);
       j.member("repair_moves", S.repair_moves[m]);
+      j.member("repair_disks", S.repair_disks[m]);
       if (m != S.source) {
         j.member("hausdorff_percent", checks[m].hausdorff_target).member("flipped_faces", checks[m].flipped_faces);
         j.member("flipped_at_target_folds", checks[m].flipped_at_target_folds);
