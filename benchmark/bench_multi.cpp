@@ -7,12 +7,22 @@
 // the maps: the distance of each landmark's image from its true position, in units of the square root of the
 // mesh's area. Prints a Markdown table.
 //
+// With --wide, the N-way cases built in code from ../shared/data by the wider bench's loader (test/wide_cases.h)
+// instead: one source and the targets of that bench's cases with this source, each target as that bench makes
+// it (the TOSCA poses remeshed isotropically), one feature row per feature of the source (geodesic farthest-point
+// sampling, the same on every case of the source). Scored by the dense truth of each case: the distance of the
+// image of every source vertex from its true position on that target, in units of √(target area).
+//   - tosca/wolf0_wolf1_wolf2, tosca/horse0_horse5_horse7: the three poses of each class, 12 features;
+//   - cross/dog0_wolf0_horse0_cat0: four animals of different classes and resolutions, 12 features.
+//
 //   bench_multi [CASE_DIR] [TOLERANCE_PERCENT] [MESH_COUNTS] [--construction=refinement|overlay]
+//   bench_multi --wide [TOLERANCE_PERCENT] [CASE_FILTER] [--construction=refinement|overlay]
 //   (MESH_COUNTS default "3,5"; the construction of each two-mesh remeshing, automatic by default)
 #include <crossparam/io.h>
 #include <crossparam/multi_remeshing.h>
 #include <crossparam/remeshing_verification.h>
 
+#include "../test/wide_cases.h"
 #include "bench_common.h"
 
 #include <CGAL/Polygon_mesh_processing/measure.h>
@@ -21,7 +31,9 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 #include <sstream>
+#include <tuple>
 
 using namespace crossparam;
 namespace fs = std::filesystem;
@@ -53,15 +65,22 @@ std::string fmt(double x, int digits = 3) {
   return s.str();
 }
 
-void run(const fs::path& dir, std::size_t n, double tolerance, Remeshing_construction construction) {
-  std::vector<Surface_mesh> meshes(n);
+/// One N-way case: the meshes (the first is the source), the features, and the truth: held-out landmark rows
+/// (one column per mesh), or per other mesh the true position of every source vertex on it (dense).
+struct Multi_case {
+  std::string name;
+  std::vector<Surface_mesh> meshes;
+  Multi_feature_correspondence features, landmarks;
+  std::vector<std::vector<Point_3>> dense; ///< per mesh, empty for the source
+};
+
+void run(const Multi_case& c, double tolerance, Remeshing_construction construction) {
+  const std::vector<Surface_mesh>& meshes = c.meshes;
+  const std::size_t n = meshes.size();
   std::size_t largest = 0;
-  for (std::size_t m = 0; m < n; ++m) {
-    read_triangle_mesh((dir / ("mesh_" + std::to_string(m) + ".off")).string(), meshes[m]);
-    largest = std::max<std::size_t>(largest, meshes[m].number_of_vertices());
-  }
-  const Multi_feature_correspondence features = read_columns((dir / "features.txt").string(), n);
-  const Multi_feature_correspondence landmarks = read_columns((dir / "truth" / "landmarks_eval.txt").string(), n);
+  for (const auto& m : meshes) largest = std::max<std::size_t>(largest, m.number_of_vertices());
+  const Multi_feature_correspondence& features = c.features;
+  const Multi_feature_correspondence& landmarks = c.landmarks;
   const Multi_remesher<Surface_mesh> r(meshes, features,
                                        crossparam::parameters::tolerance(tolerance, crossparam::parameters::remeshing_construction(construction)));
   const Multi_remeshing_statistics& S = r.statistics();
@@ -80,14 +99,14 @@ void run(const fs::path& dir, std::size_t n, double tolerance, Remeshing_constru
   fs::remove_all(tmp);
   std::vector<Surface_mesh> outs(n);
   for (std::size_t m = 0; m < n; ++m) r.copy_to(m, outs[m]);
-  std::cout << "\n### " << n << " meshes (source: mesh " << S.source << "), tolerance " << tolerance << "%\n\n";
+  std::cout << "\n### " << c.name << ": " << n << " meshes (source: mesh " << S.source << "), tolerance " << tolerance << "%\n\n";
   std::cout << "one face list (outputs read back from OFF): " << (one_face_list ? "yes" : "NO") << "; "
             << S.output_faces << " faces, " << S.output_vertices << " vertices = "
             << fmt(double(S.output_vertices) / double(largest), 2) << " x the largest input (" << largest
             << "); source faces triangulated anew: " << S.retriangulated_faces << " (" << fmt(S.seconds_common, 2)
             << " s); output repair " << fmt(S.seconds_repair, 2) << " s; total " << fmt(S.seconds_total, 1) << " s\n\n";
-  std::cout << "| mesh | input vertices | Hausdorff % | flipped (at target folds) | new self-intersecting pairs | bad faces before / after the repair | its remeshing's vertices | landmark error mean | max | "
-               "map s | fit s | verified |\n";
+  std::cout << "| mesh | input vertices | Hausdorff % | flipped (at target folds) | new self-intersecting pairs | bad faces before / after the repair | its remeshing's vertices | "
+            << (c.dense.empty() ? "landmark" : "dense") << " error mean | max | map s | fit s | verified |\n";
   std::cout << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (std::size_t m = 0; m < n; ++m) {
     if (m == S.source) {
@@ -101,20 +120,58 @@ void run(const fs::path& dir, std::size_t n, double tolerance, Remeshing_constru
     const double unit = std::sqrt(CGAL::Polygon_mesh_processing::area(meshes[m]));
     const auto& cp = r.map(m);
     double sum = 0, mx = 0;
-    for (const auto& row : landmarks) {
-      const Input_location l = cp.source_vertex_to_target_input(row[S.source]);
-      const std::array<double, 3> q = cp.input_point(Mesh_side::target, l);
-      const Point_3& t = meshes[m].point(Surface_mesh::Vertex_index(Surface_mesh::size_type(row[m])));
+    std::size_t count = 0;
+    auto score = [&](std::size_t v, const Point_3& t) {
+      const std::array<double, 3> q = cp.input_point(Mesh_side::target, cp.source_vertex_to_target_input(v));
       const double d = std::sqrt(CGAL::square(q[0] - t.x()) + CGAL::square(q[1] - t.y()) + CGAL::square(q[2] - t.z())) / unit;
-      sum += d, mx = std::max(mx, d);
-    }
+      sum += d, mx = std::max(mx, d), ++count;
+    };
+    for (const auto& row : landmarks)
+      score(row[S.source], meshes[m].point(Surface_mesh::Vertex_index(Surface_mesh::size_type(row[m]))));
+    if (!c.dense.empty())
+      for (std::size_t v = 0; v < c.dense[m].size(); ++v) score(v, c.dense[m][v]);
     std::cout << "| " << m << " | " << meshes[m].number_of_vertices() << " | " << fmt(v.hausdorff_target) << " | "
               << v.flipped_faces << " (" << v.flipped_at_target_folds << ") | " << v.new_self_intersections << " | "
-              << S.bad_faces_before_repair[m] << " / " << S.bad_faces_after_repair[m] << " | " << S.fitted_vertices[m] << " | " << fmt(sum / double(landmarks.size()), 4) << " | "
+              << S.bad_faces_before_repair[m] << " / " << S.bad_faces_after_repair[m] << " | " << S.fitted_vertices[m] << " | " << fmt(sum / double(std::max<std::size_t>(count, 1)), 4) << " | "
               << fmt(mx, 4) << " | " << fmt(S.seconds_map[m], 1) << " | " << fmt(S.seconds_fit[m], 1) << " | "
               << (v.valid ? "yes" : "no: " + v.message) << " |\n";
   }
   std::cout << std::flush;
+}
+
+Multi_case fourleg(const fs::path& dir, std::size_t n) {
+  Multi_case c;
+  c.name = dir.filename().string() + " (first " + std::to_string(n) + ")";
+  c.meshes.resize(n);
+  for (std::size_t m = 0; m < n; ++m) read_triangle_mesh((dir / ("mesh_" + std::to_string(m) + ".off")).string(), c.meshes[m]);
+  c.features = read_columns((dir / "features.txt").string(), n);
+  c.landmarks = read_columns((dir / "truth" / "landmarks_eval.txt").string(), n);
+  return c;
+}
+
+/// An N-way case of the wider bench: its name lists the meshes, source first; the two-mesh cases
+/// "FAMILY/SOURCE_TARGET[_k12]" give the meshes, the features and the truth. Nothing when the data is absent.
+std::optional<Multi_case> wide_case(const std::string& family, const std::vector<std::string>& names, const std::string& suffix) {
+  Multi_case c;
+  c.name = family + "/";
+  for (std::size_t i = 0; i < names.size(); ++i) c.name += (i ? "_" : "") + names[i];
+  c.dense.resize(1);
+  for (std::size_t i = 1; i < names.size(); ++i) {
+    std::optional<wide_bench::Case> w = wide_bench::load(family + "/" + names[0] + "_" + names[i] + suffix);
+    if (!w) return std::nullopt;
+    if (i == 1) {
+      c.meshes.push_back(std::move(w->source));
+      for (const Feature_pair& f : w->features) c.features.push_back({f.source});
+    }
+    if (w->features.size() != c.features.size()) throw Input_error(c.name + ": the cases' features differ");
+    for (std::size_t k = 0; k < c.features.size(); ++k) {
+      if (w->features[k].source != c.features[k][0]) throw Input_error(c.name + ": the cases' features differ");
+      c.features[k].push_back(w->features[k].target);
+    }
+    c.meshes.push_back(std::move(w->target));
+    c.dense.push_back(std::move(w->dense));
+  }
+  return c;
 }
 
 } // namespace
@@ -126,6 +183,27 @@ int main(int argc_given, char** argv_given) try {
     if (!bench::construction_flag(argv_given[i], construction)) args.push_back(argv_given[i]);
   const int argc = int(args.size());
   char** argv = args.data();
+  if (argc > 1 && std::string(argv[1]) == "--wide") {
+    const double tolerance = argc > 2 ? std::stod(argv[2]) : 0.5;
+    const std::string filter = argc > 3 ? argv[3] : "";
+    const std::vector<std::tuple<std::string, std::vector<std::string>, std::string>> cases{
+        {"tosca", {"wolf0", "wolf1", "wolf2"}, "_k12"},
+        {"tosca", {"horse0", "horse5", "horse7"}, "_k12"},
+        {"cross", {"dog0", "wolf0", "horse0", "cat0"}, "_k12"}};
+    std::cout << "## N-way common connectivity: the wider bench\n";
+    for (const auto& [family, names, suffix] : cases) {
+      std::string name = family + "/";
+      for (std::size_t i = 0; i < names.size(); ++i) name += (i ? "_" : "") + names[i];
+      if (name.find(filter) == std::string::npos) continue;
+      const std::optional<Multi_case> c = wide_case(family, names, suffix);
+      if (!c) {
+        std::cout << name << ": no data, skipped\n";
+        continue;
+      }
+      run(*c, tolerance, construction);
+    }
+    return 0;
+  }
   const fs::path dir = argc > 1 ? fs::path(argv[1]) : fs::path(CROSSPARAM_SHARED_DIR) / "bench_multi" / "fourleg5";
   const double tolerance = argc > 2 ? std::stod(argv[2]) : 0.5;
   if (!fs::exists(dir / "features.txt")) {
@@ -134,7 +212,7 @@ int main(int argc_given, char** argv_given) try {
   }
   std::cout << "## N-way common connectivity: " << dir.filename().string() << "\n";
   std::stringstream counts(argc > 3 ? argv[3] : "3,5");
-  for (std::string n; std::getline(counts, n, ',');) run(dir, std::stoul(n), tolerance, construction);
+  for (std::string n; std::getline(counts, n, ',');) run(fourleg(dir, std::stoul(n)), tolerance, construction);
   return 0;
 } catch (const std::exception& e) {
   std::cerr << "bench_multi: " << e.what() << "\n";
