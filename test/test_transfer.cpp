@@ -53,6 +53,28 @@ std::array<double, 3> barycentric(const Point_3& a, const Point_3& b, const Poin
   return {1 - v - w, v, w};
 }
 
+/// The vertices of `from` and every vertex of a face around one of them, sorted.
+std::vector<std::size_t> grow_ring(const std::vector<std::array<std::size_t, 3>>& faces, const std::vector<std::size_t>& from) {
+  std::vector<std::size_t> out = from;
+  for (const auto& f : faces)
+    for (std::size_t v : from)
+      if (std::find(f.begin(), f.end(), v) != f.end()) out.insert(out.end(), f.begin(), f.end());
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+/// A face list and its points as a mesh.
+Surface_mesh mesh_of(const std::vector<std::array<std::size_t, 3>>& faces, const std::vector<std::array<double, 3>>& p) {
+  Surface_mesh m;
+  std::vector<Point_3> pts;
+  for (const auto& x : p) pts.emplace_back(x[0], x[1], x[2]);
+  std::vector<std::vector<std::size_t>> polys;
+  for (const auto& f : faces) polys.push_back({f[0], f[1], f[2]});
+  PMP::polygon_soup_to_polygon_mesh(pts, polys, m);
+  return m;
+}
+
 } // namespace
 
 // A linear field (the source's own coordinates) arrives at every target vertex as F^-1 of the vertex,
@@ -406,28 +428,12 @@ TEST(MultiRemesh, OutputRepairMovesOnlyCornersOfBadFaces) {
   for (auto v : sphere.vertices()) points.push_back({sphere.point(v).x(), sphere.point(v).y(), sphere.point(v).z()});
   const double diag = internal::bbox_diagonal(sphere);
   const std::size_t pushed = 100;
-  auto ring = [&](const std::vector<std::size_t>& from) {
-    std::vector<std::size_t> out = from;
-    for (const auto& f : faces)
-      for (std::size_t v : from)
-        if (std::find(f.begin(), f.end(), v) != f.end()) out.insert(out.end(), f.begin(), f.end());
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
-    return out;
-  };
+  auto ring = [&](const std::vector<std::size_t>& from) { return grow_ring(faces, from); };
   const std::vector<std::size_t> one = ring({pushed}), two = ring(one);
   const std::size_t over = one.front() != pushed ? one.front() : one.back();
   std::vector<std::array<double, 3>> bad = points;
   for (int k = 0; k < 3; ++k) bad[pushed][k] = 2 * points[over][k] - points[pushed][k];
-  auto as_mesh = [&](const std::vector<std::array<double, 3>>& p) {
-    Surface_mesh m;
-    std::vector<Point_3> pts;
-    for (const auto& x : p) pts.emplace_back(x[0], x[1], x[2]);
-    std::vector<std::vector<std::size_t>> polys;
-    for (const auto& f : faces) polys.push_back({f[0], f[1], f[2]});
-    PMP::polygon_soup_to_polygon_mesh(pts, polys, m);
-    return m;
-  };
+  auto as_mesh = [&](const std::vector<std::array<double, 3>>& p) { return mesh_of(faces, p); };
   const Remeshing_verification before = verify_compatible_remeshing(sphere, sphere, sphere, as_mesh(bad), 5.0);
   EXPECT_GT(before.flipped_faces, 0u);
 
@@ -472,15 +478,7 @@ TEST(MultiRemesh, OutputRepairEmbedsASqueezedClusterAnew) {
   std::vector<std::array<double, 3>> points;
   for (auto v : sphere.vertices()) points.push_back({sphere.point(v).x(), sphere.point(v).y(), sphere.point(v).z()});
   const double diag = internal::bbox_diagonal(sphere);
-  auto ring = [&](const std::vector<std::size_t>& from) {
-    std::vector<std::size_t> out = from;
-    for (const auto& f : faces)
-      for (std::size_t v : from)
-        if (std::find(f.begin(), f.end(), v) != f.end()) out.insert(out.end(), f.begin(), f.end());
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
-    return out;
-  };
+  auto ring = [&](const std::vector<std::size_t>& from) { return grow_ring(faces, from); };
   const std::size_t centre = 100;
   std::vector<std::vector<std::size_t>> within{{centre}}; // within[k]: the points within k rings
   for (int k = 1; k <= 7; ++k) within.push_back(ring(within.back()));
@@ -493,15 +491,7 @@ TEST(MultiRemesh, OutputRepairEmbedsASqueezedClusterAnew) {
         bad[v] = {c[0] + along * (points[v][0] - c[0]), c[1] + across * (points[v][1] - c[1]),
                   c[2] + across * (points[v][2] - c[2])};
   }
-  auto as_mesh = [&](const std::vector<std::array<double, 3>>& p) {
-    Surface_mesh m;
-    std::vector<Point_3> pts;
-    for (const auto& x : p) pts.emplace_back(x[0], x[1], x[2]);
-    std::vector<std::vector<std::size_t>> polys;
-    for (const auto& f : faces) polys.push_back({f[0], f[1], f[2]});
-    PMP::polygon_soup_to_polygon_mesh(pts, polys, m);
-    return m;
-  };
+  auto as_mesh = [&](const std::vector<std::array<double, 3>>& p) { return mesh_of(faces, p); };
   const Remeshing_verification before = verify_compatible_remeshing(sphere, sphere, sphere, as_mesh(bad), 1.0);
   EXPECT_GT(before.new_self_intersections, 0u);
   EXPECT_GT(before.hausdorff_target, 1.0); // percent of the diagonal
