@@ -502,7 +502,9 @@ TEST(MultiRemesh, OutputRepairEmbedsASqueezedClusterAnew) {
   EXPECT_EQ(r.bad_after, 0u);
   EXPECT_GE(r.disks, 1u);
   for (std::size_t v = 0; v < points.size(); ++v)
-    if (moved[v] != bad[v]) EXPECT_TRUE(std::binary_search(within[7].begin(), within[7].end(), v)) << "vertex " << v;
+    if (moved[v] != bad[v]) {
+      EXPECT_TRUE(std::binary_search(within[7].begin(), within[7].end(), v)) << "vertex " << v;
+    }
   const Remeshing_verification after = verify_compatible_remeshing(sphere, sphere, sphere, as_mesh(moved), 1.0);
   EXPECT_EQ(after.flipped_faces, 0u);
   EXPECT_EQ(after.new_self_intersections, 0u);
