@@ -26,7 +26,8 @@
 // surroundings: where one map squeezes a part of mesh k to a point, the common refinement puts there a cluster of
 // points of every other output too small for their coordinates to carry a face's normal, and no corner of the
 // cluster can move out of it alone. The repair takes the disk of faces within r rings of the bad face (r = 1, 2,
-// ... up to output_repair_disk_rings, while it is a disk: one boundary loop, Euler characteristic 1), keeps its
+// ... up to output_repair_disk_rings, whenever they form a disk: Euler characteristic 1, the faces being connected;
+// a ring that leaves a hole is skipped, and the hole closes at the next), keeps its
 // boundary and its corners that may not move, puts every other corner at the average of its neighbours (Tutte's
 // embedding with uniform weights, solved in space with the boundary held) and then at its nearest point of mesh
 // k. Of the disks that are less bad than before by the same measure, summed over their faces, it keeps the one
@@ -75,7 +76,8 @@ constexpr double output_repair_tie = 1e-9;
 
 /// Rings around a bad face that the disk repair grows to at most (see above). On bench_multi/fourleg5 the one
 /// cluster measured needs 5 (the rings within 4 of its bad face are all below 2·10⁻⁹ of the diagonal); each ring
-/// tried costs a sparse solve of the size of the disk, and a disk that stops being a disk ends the growth.
+/// that forms a disk costs a sparse solve of the disk's size and a count of its faces' pairs; 10 rings hold a few
+/// hundred faces on a regular mesh.
 constexpr unsigned output_repair_disk_rings = 10;
 
 /// What the repair of one output did.
