@@ -149,12 +149,18 @@ Multi_case fourleg(const fs::path& dir, std::size_t n) {
   return c;
 }
 
-/// An N-way case of the wider bench: its name lists the meshes, source first; the two-mesh cases
+/// The name of an N-way case of the wider bench: FAMILY/ and its meshes, source first.
+std::string case_name(const std::string& family, const std::vector<std::string>& names) {
+  std::string out = family + "/";
+  for (std::size_t i = 0; i < names.size(); ++i) out += (i ? "_" : "") + names[i];
+  return out;
+}
+
+/// An N-way case of the wider bench, named by case_name(); the two-mesh cases
 /// "FAMILY/SOURCE_TARGET[_k12]" give the meshes, the features and the truth. Nothing when the data is absent.
 std::optional<Multi_case> wide_case(const std::string& family, const std::vector<std::string>& names, const std::string& suffix) {
   Multi_case c;
-  c.name = family + "/";
-  for (std::size_t i = 0; i < names.size(); ++i) c.name += (i ? "_" : "") + names[i];
+  c.name = case_name(family, names);
   c.dense.resize(1);
   for (std::size_t i = 1; i < names.size(); ++i) {
     std::optional<wide_bench::Case> w = wide_bench::load(family + "/" + names[0] + "_" + names[i] + suffix);
@@ -192,8 +198,7 @@ int main(int argc_given, char** argv_given) try {
         {"cross", {"dog0", "wolf0", "horse0", "cat0"}, "_k12"}};
     std::cout << "## N-way common connectivity: the wider bench\n";
     for (const auto& [family, names, suffix] : cases) {
-      std::string name = family + "/";
-      for (std::size_t i = 0; i < names.size(); ++i) name += (i ? "_" : "") + names[i];
+      const std::string name = case_name(family, names);
       if (name.find(filter) == std::string::npos) continue;
       const std::optional<Multi_case> c = wide_case(family, names, suffix);
       if (!c) {

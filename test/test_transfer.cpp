@@ -64,6 +64,13 @@ std::vector<std::size_t> grow_ring(const std::vector<std::array<std::size_t, 3>>
   return out;
 }
 
+/// The points of a mesh, in vertex order.
+std::vector<std::array<double, 3>> point_list(const Surface_mesh& m) {
+  std::vector<std::array<double, 3>> out;
+  for (auto v : m.vertices()) out.push_back({m.point(v).x(), m.point(v).y(), m.point(v).z()});
+  return out;
+}
+
 /// A face list and its points as a mesh.
 Surface_mesh mesh_of(const std::vector<std::array<std::size_t, 3>>& faces, const std::vector<std::array<double, 3>>& p) {
   Surface_mesh m;
@@ -424,8 +431,7 @@ TEST(MultiRemesh, CommonRefinementMergesOnlyNeedlesOfEveryOutput) {
 TEST(MultiRemesh, OutputRepairMovesOnlyCornersOfBadFaces) {
   const Surface_mesh sphere = shapes::make_deformed_sphere(85, 800, false);
   const std::vector<std::array<std::size_t, 3>> faces = internal::face_list(sphere);
-  std::vector<std::array<double, 3>> points;
-  for (auto v : sphere.vertices()) points.push_back({sphere.point(v).x(), sphere.point(v).y(), sphere.point(v).z()});
+  const std::vector<std::array<double, 3>> points = point_list(sphere);
   const double diag = internal::bbox_diagonal(sphere);
   const std::size_t pushed = 100;
   auto ring = [&](const std::vector<std::size_t>& from) { return grow_ring(faces, from); };
@@ -475,8 +481,7 @@ TEST(MultiRemesh, OutputRepairMovesOnlyCornersOfBadFaces) {
 TEST(MultiRemesh, OutputRepairEmbedsASqueezedClusterAnew) {
   const Surface_mesh sphere = shapes::make_deformed_sphere(85, 800, false);
   const std::vector<std::array<std::size_t, 3>> faces = internal::face_list(sphere);
-  std::vector<std::array<double, 3>> points;
-  for (auto v : sphere.vertices()) points.push_back({sphere.point(v).x(), sphere.point(v).y(), sphere.point(v).z()});
+  const std::vector<std::array<double, 3>> points = point_list(sphere);
   const double diag = internal::bbox_diagonal(sphere);
   auto ring = [&](const std::vector<std::size_t>& from) { return grow_ring(faces, from); };
   const std::size_t centre = 100;

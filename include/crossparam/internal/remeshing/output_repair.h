@@ -269,22 +269,25 @@ private:
     });
     return n;
   }
-  /// How bad the faces around v are: bad faces, intersecting pairs, and far faces weighted far_weight.
-  std::size_t badness(std::size_t v) const {
-    const auto& star = star_[v];
+  /// How bad a set of faces is (the star of a corner, a disk): bad faces, intersecting pairs (among them and
+  /// with the others), and, on an output other than the source's, far faces weighted far_weight.
+  std::size_t badness_of(const std::vector<std::uint32_t>& fs) const {
     const auto P = [this](std::size_t x) -> const Point_3& { return P_[x]; };
     std::size_t b = 0;
-    for (std::size_t i = 0; i < star.size(); ++i) {
-      const std::uint32_t f = star[i];
-      b += face_bad(f) + intersections(f, star) + (on_source_ ? 0 : far_weight * far(f));
+    for (std::size_t i = 0; i < fs.size(); ++i) {
+      const std::uint32_t f = fs[i];
+      b += face_bad(f) + intersections(f, fs) + (on_source_ ? 0 : far_weight * far(f));
       if (normal(f) == CGAL::NULL_VECTOR) continue;
-      for (std::size_t j = i + 1; j < star.size(); ++j)
-        if (normal(star[j]) != CGAL::NULL_VECTOR && faces_intersect(faces_[f], faces_[star[j]], P) &&
-            !near_fold(face_box(f) + face_box(star[j])))
+      const CGAL::Bbox_3 bf = face_box(f);
+      for (std::size_t j = i + 1; j < fs.size(); ++j)
+        if (CGAL::do_overlap(bf, face_box(fs[j])) && normal(fs[j]) != CGAL::NULL_VECTOR &&
+            faces_intersect(faces_[f], faces_[fs[j]], P) && !near_fold(bf + face_box(fs[j])))
           ++b;
     }
     return b;
   }
+  /// How bad the faces around v are.
+  std::size_t badness(std::size_t v) const { return badness_of(star_[v]); }
 
   /// Tries the new positions of v; keeps the least bad if it is less bad than v's present one.
   bool try_move(std::size_t v) {
@@ -302,12 +305,7 @@ private:
     }
     P_[v] = old;
     if (!(best < before)) return false;
-    for (std::uint32_t f : star_[v]) index_.remove(Face_box_entry(box_[f], f));
-    P_[v] = chosen;
-    for (std::uint32_t f : star_[v]) {
-      box_[f] = to_face_box(face_box(f));
-      index_.insert(Face_box_entry(box_[f], f));
-    }
+    set_points({v}, {chosen});
     return true;
   }
 
@@ -323,24 +321,6 @@ private:
       box_[f] = to_face_box(face_box(f));
       index_.insert(Face_box_entry(box_[f], f));
     }
-  }
-
-  /// How bad the faces of a disk are (sorted `disk`): as badness(), summed over its faces.
-  std::size_t disk_badness(const std::vector<std::uint32_t>& disk) const {
-    const auto P = [this](std::size_t x) -> const Point_3& { return P_[x]; };
-    std::size_t b = 0;
-    for (std::size_t i = 0; i < disk.size(); ++i) {
-      const std::uint32_t f = disk[i];
-      b += face_bad(f) + intersections(f, disk) + far_weight * far(f);
-      if (normal(f) == CGAL::NULL_VECTOR) continue;
-      const CGAL::Bbox_3 bf = face_box(f);
-      for (std::size_t j = i + 1; j < disk.size(); ++j)
-        if (CGAL::do_overlap(bf, face_box(disk[j])) && normal(disk[j]) != CGAL::NULL_VECTOR &&
-            faces_intersect(faces_[f], faces_[disk[j]], P) &&
-            !near_fold(face_box(f) + face_box(disk[j])))
-          ++b;
-    }
-    return b;
   }
 
   /// The disk repair of bad face f (see above). On success `touched` holds the faces whose status may have
@@ -416,9 +396,9 @@ private:
       for (std::ptrdiff_t i = 0; i < n; ++i) to.push_back(tree_.closest_point(Point_3(x(i, 0), x(i, 1), x(i, 2))));
       std::vector<Point_3> old;
       for (std::size_t v : free) old.push_back(P_[v]);
-      const std::size_t before = disk_badness(disk);
+      const std::size_t before = badness_of(disk);
       set_points(free, to);
-      const std::size_t after = disk_badness(disk);
+      const std::size_t after = badness_of(disk);
       set_points(free, old);
       if (long(before) - long(after) > best_gain) {
         best_gain = long(before) - long(after);
