@@ -3,6 +3,7 @@
 // (remeshing_verification.h: one face list, CGAL's two-sided Hausdorff distance to the target, the source side
 // on the source, no face flipped against the target), plus the certificate of the remeshed parameterization.
 #include <crossparam/compatible_remeshing.h>
+#include <crossparam/internal/remeshing/disk_embedding.h>
 #include <crossparam/io.h>
 #include <crossparam/morph.h>
 #include <crossparam/remeshing_verification.h>
@@ -348,6 +349,84 @@ TEST(DiskChart, TorusPatchIsAOneToOneDisk) {
       internal::Work_location outside;
       EXPECT_FALSE(chart->locate(t, Eigen::Vector2d(2, 0), outside)); // beyond the unit disk
     }
+}
+
+// The disk re-embedding of the strict and the output repairs (internal/remeshing/disk_embedding.h). On a torus grid:
+// the faces around one vertex form a disk, a band around the tube does not (Euler characteristic 0); Tutte's
+// embedding of the grid's faces within 3 rings of a vertex, with the interior crumpled and the boundary held,
+// puts each free corner at the average of its neighbours (the residual is rounding), and every face of the disk
+// then faces the way it did on the torus.
+TEST(DiskEmbedding, DisksAreRecognisedAndTutteAverages) {
+  const std::size_t nu = 24, nv = 12;
+  const auto id = [&](std::size_t i, std::size_t j) { return (i % nu) * nv + j % nv; };
+  std::vector<std::array<std::size_t, 3>> all;
+  for (std::size_t i = 0; i < nu; ++i)
+    for (std::size_t j = 0; j < nv; ++j) {
+      all.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      all.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  std::vector<Point_3> p(nu * nv);
+  for (std::size_t i = 0; i < nu; ++i)
+    for (std::size_t j = 0; j < nv; ++j) {
+      const double u = 2 * CGAL_PI * double(i) / double(nu), v = 2 * CGAL_PI * double(j) / double(nv);
+      p[id(i, j)] = Point_3((1 + 0.35 * std::cos(v)) * std::cos(u), (1 + 0.35 * std::cos(v)) * std::sin(u), 0.35 * std::sin(v));
+    }
+  // The faces whose corners are all within `r` grid steps of (i0, j0) (a square of the grid: a disk for small r).
+  const auto within = [&](std::size_t r, std::size_t i0, std::size_t j0) {
+    std::vector<std::array<std::size_t, 3>> out;
+    const auto near = [&](std::size_t v) {
+      const std::size_t i = v / nv, j = v % nv;
+      const std::size_t di = std::min((i + nu - i0) % nu, (i0 + nu - i) % nu), dj = std::min((j + nv - j0) % nv, (j0 + nv - j) % nv);
+      return di <= r && dj <= r;
+    };
+    for (const auto& f : all)
+      if (near(f[0]) && near(f[1]) && near(f[2])) out.push_back(f);
+    return out;
+  };
+  const auto star = internal::disk_of(within(1, 5, 5));
+  ASSERT_TRUE(star);
+  EXPECT_EQ(star->corners.size(), 9u);
+  EXPECT_EQ(star->boundary_edges, 8u);
+  std::vector<std::array<std::size_t, 3>> band;
+  for (const auto& f : all)
+    if (f[0] / nv == 3 && f[1] / nv == 4) band.push_back(f); // the faces between two rings of the tube
+  EXPECT_FALSE(internal::disk_of(band));
+  EXPECT_FALSE(internal::disk_of(all)); // closed
+
+  const auto d = internal::disk_of(within(3, 10, 6));
+  ASSERT_TRUE(d);
+  std::vector<std::size_t> free;
+  for (std::size_t v : d->corners) {
+    const std::size_t i = v / nv, j = v % nv;
+    if (std::max(std::min((i + nu - 10) % nu, (10 + nu - i) % nu), std::min((j + nv - 6) % nv, (6 + nv - j) % nv)) < 3)
+      free.push_back(v);
+  }
+  ASSERT_EQ(free.size(), 25u);
+  std::vector<Point_3> crumpled = p;
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> offset(-0.5, 0.5);
+  for (std::size_t v : free) crumpled[v] = p[v] + Kernel::Vector_3(offset(random), offset(random), offset(random));
+  const auto x = internal::tutte_in_space(free, d->edges, [&](std::size_t v) -> const Point_3& { return crumpled[v]; });
+  ASSERT_TRUE(x);
+  ASSERT_EQ(x->size(), free.size());
+  std::vector<Point_3> placed = crumpled;
+  for (std::size_t k = 0; k < free.size(); ++k) placed[free[k]] = (*x)[k];
+  for (std::size_t v : free) {
+    Kernel::Vector_3 sum = CGAL::NULL_VECTOR;
+    std::size_t n = 0;
+    for (const auto& e : d->edges)
+      if (e.first == v || e.second == v) sum = sum + (placed[e.first == v ? e.second : e.first] - CGAL::ORIGIN), ++n;
+    EXPECT_EQ(n, 6u);
+    EXPECT_LT(std::sqrt(CGAL::squared_distance(placed[v], CGAL::ORIGIN + sum / double(n))), 1e-12);
+    EXPECT_GT(CGAL::squared_distance(placed[v], crumpled[v]), 0.0);
+  }
+  // Each face faces the way it did on the torus, against the tube's normal at its centroid.
+  const auto facing = [](const std::vector<Point_3>& q, const std::array<std::size_t, 3>& f) {
+    const Point_3 c = CGAL::centroid(q[f[0]], q[f[1]], q[f[2]]);
+    const Kernel::Vector_3 radial(c.x(), c.y(), 0), tube = c - (CGAL::ORIGIN + radial / std::sqrt(radial * radial));
+    return internal::triangle_normal(q[f[0]], q[f[1]], q[f[2]]) * tube > 0;
+  };
+  for (const auto& f : within(3, 10, 6)) EXPECT_EQ(facing(placed, f), facing(p, f));
 }
 
 // A UV sphere of radius 1 flattened to `thickness` along z: a thin disc whose rim is a crease (the faces just

@@ -118,6 +118,7 @@ struct Remeshing_statistics {
   std::size_t strict_flipped_after = 0;       ///< and after it (the verifier decides: see remeshing_verification.h)
   std::size_t strict_intersecting_after = 0;
   std::size_t strict_flips = 0;               ///< edge flips the strict repair kept (the source's surface kept)
+  std::size_t strict_disks = 0;               ///< disks of M_st the strict repair re-embedded on the target
   std::size_t strict_splits = 0;              ///< vertices the strict repair added
   unsigned strict_rounds = 0;                 ///< its refinement rounds
   bool strict_work_bound_reached = false;     ///< whether it stopped at its work bound (strict_repair.h)
@@ -133,6 +134,7 @@ struct Remeshing_statistics {
   std::size_t overlay_zippers_flipped = 0;     ///< faces with no area on the source flipped away (Remesh_state::flip_zipper())
   std::size_t overlay_zippers_folding = 0;     ///< of those, flipped although the flip folds a face of M_st, left to the strict repair
   std::size_t overlay_flipped = 0, overlay_intersecting = 0; ///< the strict figures of the decimated overlay
+  std::size_t overlay_disks = 0;               ///< disks its strict repair re-embedded on the target
   unsigned smoothing_rounds = 0, refinement_rounds = 0;
   double tolerance = 0;              ///< ε, percent
   double max_error_initial = 0, l2_error_initial = 0; ///< e(v) of M_st right after the projection
@@ -395,11 +397,13 @@ private:
     stats_.strict_flipped_before = r.flipped_before, stats_.strict_intersecting_before = r.intersecting_before;
     stats_.strict_flipped_after = r.flipped_after, stats_.strict_intersecting_after = r.intersecting_after;
     stats_.strict_splits = r.splits, stats_.strict_rounds = unsigned(r.rounds), stats_.strict_flips = r.flips;
+    stats_.strict_disks = r.disks;
     stats_.strict_work_bound_reached = r.work_bound_reached;
     stats_.seconds_strict_repair = sec(ts, clock::now());
     say("remesh: strict repair: " + std::to_string(r.flipped_before) + " flipped and " +
         std::to_string(r.intersecting_before) + " intersecting faces before, " + std::to_string(r.flipped_after) +
-        " and " + std::to_string(r.intersecting_after) + " after; " + std::to_string(r.flips) + " edge flips, " + std::to_string(r.splits) + " vertices added in " +
+        " and " + std::to_string(r.intersecting_after) + " after; " + std::to_string(r.flips) + " edge flips, " +
+        std::to_string(r.disks) + " disks re-embedded, " + std::to_string(r.splits) + " vertices added in " +
         std::to_string(r.rounds) + " rounds" + (r.work_bound_reached ? " (stopped at its work bound)" : ""));
   }
 
@@ -459,6 +463,7 @@ private:
     stats_.overlay_work_bound_reached = d.work_bound_reached;
     stats_.overlay_needles_removed = d.needle_collapses, stats_.overlay_needles_left = d.needles_left;
     stats_.overlay_flipped = flipped, stats_.overlay_intersecting = intersecting;
+    stats_.overlay_disks = rep.disks;
     stats_.seconds_overlay = sec(ts, clock::now());
     say("remesh: overlay decimated to " + std::to_string(o.mesh.m.number_of_vertices()) + " vertices (" +
         std::to_string(d.collapses) + " collapses of " + std::to_string(d.tried) + " tried; refused: " +
@@ -471,7 +476,8 @@ private:
         " faces with no area on the source flipped away (" + std::to_string(stats_.overlay_zippers_folding) +
         " folding a face for the strict repair); then " + std::to_string(rep.flipped_before) + " flipped and " +
         std::to_string(rep.intersecting_before) + " intersecting faces, " + std::to_string(flipped) + " and " +
-        std::to_string(intersecting) + " after the strict repair (" + std::to_string(rep.splits) + " vertices added); " +
+        std::to_string(intersecting) + " after the strict repair (" + std::to_string(rep.splits) + " vertices added, " + std::to_string(rep.disks) +
+        " disks re-embedded); " +
         fmt(stats_.seconds_overlay) + " s in all");
     const std::size_t bad = flipped + intersecting, bad_refined = stats_.strict_flipped_after + stats_.strict_intersecting_after;
     return bad < bad_refined || (bad == bad_refined && stats_.gap_samples_left > 0);

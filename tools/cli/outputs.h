@@ -415,14 +415,14 @@ inline Remeshing_verification write_remesh(const Options& o, const Map& cp, cons
     j.key("strict_repair").begin_object().member("flipped_before", S.strict_flipped_before);
     j.member("intersecting_before", S.strict_intersecting_before).member("flipped_after", S.strict_flipped_after);
     j.member("intersecting_after", S.strict_intersecting_after).member("edge_flips", S.strict_flips);
-    j.member("vertices_added", S.strict_splits);
+    j.member("vertices_added", S.strict_splits).member("disks", S.strict_disks);
     j.member("passes", S.strict_rounds).member("work_bound_reached", S.strict_work_bound_reached).end_object();
     j.key("overlay").begin_object().member("used", S.overlay_used).member("vertices", S.overlay_vertices);
     j.member("refused", S.overlay_refused).member("flips", S.overlay_flips).member("complete", S.overlay_complete).member("collapses", S.overlay_collapses);
     j.member("work_bound_reached", S.overlay_work_bound_reached);
     j.member("needles_removed", S.overlay_needles_removed).member("needles_left", S.overlay_needles_left)
         .member("zippers_flipped", S.overlay_zippers_flipped).member("zippers_folding", S.overlay_zippers_folding);
-    j.member("flipped", S.overlay_flipped).member("intersecting", S.overlay_intersecting).end_object();
+    j.member("flipped", S.overlay_flipped).member("intersecting", S.overlay_intersecting).member("disks", S.overlay_disks).end_object();
     j.key("surface_gaps").begin_object().member("sampled_max_before_percent", S.gap_before).member("vertices_added", S.gap_vertices);
     j.member("rounds", S.gap_rounds).member("samples_left", S.gap_samples_left).end_object();
     j.member("tolerance_percent", S.tolerance);

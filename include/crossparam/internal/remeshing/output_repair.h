@@ -38,6 +38,7 @@
 
 #include <crossparam/internal/barycentric.h>
 #include <crossparam/internal/layout_mesh.h>
+#include <crossparam/internal/remeshing/disk_embedding.h>
 #include <crossparam/internal/remeshing/triangle_intersection.h>
 #include <crossparam/remeshing_verification.h>
 #include <crossparam/types.h>
@@ -46,14 +47,11 @@
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 
-#include <Eigen/Sparse>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <optional>
-#include <tuple>
 #include <vector>
 
 namespace crossparam {
@@ -340,60 +338,21 @@ private:
       for (std::size_t v : vs) disk.insert(disk.end(), star_[v].begin(), star_[v].end());
       std::sort(disk.begin(), disk.end());
       disk.erase(std::unique(disk.begin(), disk.end()), disk.end());
-      // Its corners, edges, and which corners are on its boundary or may not move.
-      std::vector<std::size_t> corners;
-      std::vector<std::pair<std::size_t, std::size_t>> edges;
-      for (std::uint32_t g : disk)
-        for (std::size_t i = 0; i < 3; ++i) {
-          corners.push_back(faces_[g][i]);
-          edges.push_back(std::minmax(faces_[g][i], faces_[g][(i + 1) % 3]));
-        }
-      std::sort(corners.begin(), corners.end());
-      corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
-      std::sort(edges.begin(), edges.end());
-      std::size_t boundary_edges = 0, distinct = 0;
-      for (std::size_t i = 0; i < edges.size();) {
-        std::size_t j = i;
-        while (j < edges.size() && edges[j] == edges[i]) ++j;
-        boundary_edges += (j - i == 1);
-        ++distinct;
-        i = j;
-      }
-      if (long(corners.size()) - long(distinct) + long(disk.size()) != 1) continue; // not a disk (yet: a hole fills at the next ring)
+      std::vector<std::array<std::size_t, 3>> triples;
+      for (std::uint32_t g : disk) triples.push_back(faces_[g]);
+      const std::optional<Disk_faces> d = disk_of(triples);
+      if (!d) continue; // not a disk (yet: a hole fills at the next ring)
       std::vector<std::size_t> free;
-      for (std::size_t v : corners) {
+      for (std::size_t v : d->corners) {
         const bool inside = std::all_of(star_[v].begin(), star_[v].end(),
                                         [&](std::uint32_t g) { return std::binary_search(disk.begin(), disk.end(), g); });
         if (inside && movable_[v]) free.push_back(v);
       }
-      if (boundary_edges == 0 || free.empty()) continue;
-      // Tutte's embedding with uniform weights, the rest held.
-      const auto slot = [&](std::size_t v) {
-        const auto it = std::lower_bound(free.begin(), free.end(), v);
-        return it != free.end() && *it == v ? std::ptrdiff_t(it - free.begin()) : std::ptrdiff_t(-1);
-      };
-      const std::ptrdiff_t n = std::ptrdiff_t(free.size());
-      std::vector<Eigen::Triplet<double>> entries;
-      Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, 3);
-      std::vector<std::pair<std::size_t, std::size_t>> unique_edges(edges.begin(), std::unique(edges.begin(), edges.end()));
-      for (const auto& e : unique_edges) {
-        const std::ptrdiff_t a = slot(e.first), b = slot(e.second);
-        for (const auto& [i, j, other] : {std::tuple{a, b, e.second}, std::tuple{b, a, e.first}}) {
-          if (i < 0) continue;
-          entries.emplace_back(i, i, 1.0);
-          if (j >= 0)
-            entries.emplace_back(i, j, -1.0);
-          else
-            for (int k = 0; k < 3; ++k) rhs(i, k) += P_[other][k];
-        }
-      }
-      Eigen::SparseMatrix<double> A(n, n);
-      A.setFromTriplets(entries.begin(), entries.end());
-      const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
-      if (solver.info() != Eigen::Success) continue;
-      const Eigen::MatrixXd x = solver.solve(rhs);
+      if (free.empty()) continue;
+      const std::optional<std::vector<Point_3>> x = tutte_in_space(free, d->edges, [this](std::size_t v) -> const Point_3& { return P_[v]; });
+      if (!x) continue;
       std::vector<Point_3> to;
-      for (std::ptrdiff_t i = 0; i < n; ++i) to.push_back(tree_.closest_point(Point_3(x(i, 0), x(i, 1), x(i, 2))));
+      for (const Point_3& p : *x) to.push_back(tree_.closest_point(p));
       std::vector<Point_3> old;
       for (std::size_t v : free) old.push_back(P_[v]);
       const std::size_t before = badness_of(disk);

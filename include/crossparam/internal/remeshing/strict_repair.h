@@ -11,7 +11,9 @@
 #ifndef CROSSPARAM_INTERNAL_REMESHING_STRICT_REPAIR_H
 #define CROSSPARAM_INTERNAL_REMESHING_STRICT_REPAIR_H
 
+#include <crossparam/internal/remeshing/disk_embedding.h>
 #include <crossparam/internal/remeshing/fold_repair.h>
+#include <crossparam/internal/remeshing/gap_refinement.h>
 #include <crossparam/internal/remeshing/remesh_state.h>
 #include <crossparam/internal/remeshing/target_untangling.h>
 #include <crossparam/remeshing_verification.h>
@@ -38,6 +40,7 @@ struct Strict_repair_result {
   std::size_t splits = 0;                   ///< vertices it added
   std::size_t rounds = 0;                   ///< passes over the bad faces
   std::size_t flips = 0;                    ///< edge flips kept (Remesh_state::flip())
+  std::size_t disks = 0;                    ///< disks re-embedded (embed_disk())
   bool work_bound_reached = false;          ///< whether it stopped at strict_repair_work
 };
 
@@ -193,6 +196,72 @@ inline std::vector<WV> repair_face(Remesh_state& s, Target_untangler& flips, WF 
   return made;
 }
 
+/// The rings of the disk repair of the two-mesh remeshing (embed_disk()): as many as the N-way output repair's
+/// (output_repair_disk_rings), for the same reason; on the bench the disks kept have at most 3 rings.
+constexpr unsigned strict_repair_disk_rings = 10;
+
+/// The disk repair of bad face f of M_st (disk_embedding.h): the faces within r rings of f (r = 1 ...
+/// strict_repair_disk_rings, whenever they form a disk) keep their boundary and their feature vertices; every
+/// other corner goes to Tutte's embedding in space and then to its nearest point of the target (its source vertex
+/// stays: this is M_st leaving F, as the untangling does). A disk is a candidate only if every face of it is
+/// certified within `within` of the target (Target_untangler::far()); of the candidates whose bad figure
+/// (Strict_checker::local_bad() over `region` and the disk) is below `before`, the lowest is kept (the first at 0
+/// ends the growth). Returns whether one was kept; M_st is as before otherwise.
+inline bool embed_disk(Remesh_state& s, Target_untangler& flips, const Strict_checker& check, WF f,
+                       const std::vector<WF>& region, std::size_t before, double within) {
+  const auto& m = s.mesh.m;
+  const Remesh_state::Images images = s.images();
+  std::vector<WF> disk{f};
+  std::size_t best = before;
+  std::optional<std::pair<std::vector<std::size_t>, std::vector<Work_location>>> chosen; // free corners, their places
+  for (unsigned ring = 1; ring <= strict_repair_disk_rings && best > 0; ++ring) {
+    std::vector<WF> grown;
+    for (WF g : disk)
+      for (WV v : CGAL::vertices_around_face(m.halfedge(g), m))
+        for (WF k : CGAL::faces_around_target(m.halfedge(v), m))
+          if (k != WF()) grown.push_back(k);
+    std::sort(grown.begin(), grown.end());
+    grown.erase(std::unique(grown.begin(), grown.end()), grown.end());
+    disk = std::move(grown);
+    std::vector<std::array<std::size_t, 3>> triples;
+    for (WF g : disk) {
+      const WH h = m.halfedge(g);
+      triples.push_back({std::size_t(m.source(h)), std::size_t(m.target(h)), std::size_t(m.target(m.next(h)))});
+    }
+    const std::optional<Disk_faces> d = disk_of(triples);
+    if (!d) continue; // not a disk (yet: a hole fills at the next ring)
+    std::vector<std::size_t> free;
+    for (std::size_t i : d->corners) {
+      const WV v(static_cast<WV::size_type>(i));
+      bool inside = s.mesh.vfeature[v] == no_feature;
+      for (WF k : CGAL::faces_around_target(m.halfedge(v), m))
+        inside = inside && k != WF() && std::binary_search(disk.begin(), disk.end(), k);
+      if (inside) free.push_back(i);
+    }
+    if (free.empty()) continue;
+    const std::optional<std::vector<Point_3>> x =
+        tutte_in_space(free, d->edges, [&s](std::size_t i) -> const Point_3& { return s.pos[i]; });
+    if (!x) continue;
+    std::vector<Work_location> at;
+    for (std::size_t i = 0; i < free.size(); ++i) {
+      at.push_back(flips.nearest_location((*x)[i]));
+      s.img[free[i]] = at.back(), s.pos[free[i]] = s.target_point(at.back());
+    }
+    const bool near = std::none_of(disk.begin(), disk.end(), [&](WF g) { return flips.far(g, within); });
+    std::vector<WF> judged = region;
+    judged.insert(judged.end(), disk.begin(), disk.end());
+    std::sort(judged.begin(), judged.end());
+    judged.erase(std::unique(judged.begin(), judged.end()), judged.end());
+    const std::size_t now = near ? check.local_bad(judged) : before;
+    if (now < best) best = now, chosen.emplace(free, std::move(at));
+    s.restore(images);
+  }
+  if (!chosen) return false;
+  for (std::size_t i = 0; i < chosen->first.size(); ++i)
+    s.img[chosen->first[i]] = chosen->second[i], s.pos[chosen->first[i]] = s.target_point(chosen->second[i]);
+  return true;
+}
+
 /// The strict repair: each bad face of M_st (Strict_checker) repaired as a transaction, kept only if the bad
 /// figure of the region around it (Strict_checker::local_bad() over its two-ring and the faces around every
 /// vertex the repair moved or made) goes below that of the two-ring before. The repairs, in order, the first
@@ -209,6 +278,9 @@ inline Strict_repair_result strict_repair(Remesh_state& s, std::size_t max_verti
   auto& m = s.mesh.m;
   Target_untangler standard(s, Target_untangler::Rule::standard);
   Strict_checker check(s, standard, keep_within);
+  // How near the target the disk repair keeps its faces: the decimation's margin on the overlay, else the share
+  // of ε that the surface-distance step samples to (gap_refinement.h).
+  const double within = keep_within > 0 ? keep_within : gap_sample_share * s.eps;
   Strict_repair_result r;
   const std::size_t v0 = m.number_of_vertices();
   std::size_t flipped = 0, intersecting = 0;
@@ -259,17 +331,19 @@ inline Strict_repair_result strict_repair(Remesh_state& s, std::size_t max_verti
         continue;
       }
       // to_f: -1 the untangling around f; 0, 1, 2 repair_face() with nothing, f's corners, or its two-ring put
-      // back at F; 3 one split, then the untangling around what it leaves flipped.
-      for (int to_f : {-1, 0, 1, 2, 3}) {
-        // The last repair is for flipped faces only: on faces that only intersect others it costs time
+      // back at F; 3 one split, then the untangling around what it leaves flipped; 4 the disk repair (embed_disk()).
+      for (int to_f : {-1, 0, 1, 2, 3, 4}) {
+        // The split is for flipped faces only: on faces that only intersect others it costs time
         // (shrec_383_385's remeshing took twice as long) and removed nothing more.
-        if (to_f == 3 && !standard.flipped(f)) break;
-        // The untangling only moves vertices: its undo needs M_st's points alone.
+        if (to_f == 3 && !standard.flipped(f)) continue;
+        // The untangling and the disk repair only move vertices: their undo needs M_st's points alone.
         std::optional<Remesh_state::Checkpoint> cp;
-        if (to_f >= 0) cp = s.checkpoint();
+        if (to_f >= 0 && to_f != 4) cp = s.checkpoint();
         const Remesh_state::Images images = s.images();
         if (to_f < 0) {
           if (!standard.untangle_around(f)) continue;
+        } else if (to_f == 4) {
+          if (!embed_disk(s, standard, check, f, region, before, within)) continue;
         } else if (to_f == 3) {
           const std::vector<WV> made = repair_face(s, standard, f, 0, 1, region);
           if (made.empty()) {
@@ -296,6 +370,7 @@ inline Strict_repair_result strict_repair(Remesh_state& s, std::size_t max_verti
         after.erase(std::unique(after.begin(), after.end()), after.end());
         if (check.local_bad(after) < before) {
           done = true;
+          r.disks += to_f == 4;
           break;
         }
         if (cp) s.rollback(*cp);

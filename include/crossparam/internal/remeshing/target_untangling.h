@@ -73,6 +73,11 @@ public:
   }
   /// The point of the target nearest p, and its face.
   std::pair<Point_3, WF> nearest(const Point_3& p) const { return tree.closest_point_and_primitive(p); }
+  /// The location on the target of the point of the target nearest p.
+  Work_location nearest_location(const Point_3& p) const {
+    const std::pair<Point_3, WF> n = nearest(p);
+    return location_in(n.second, n.first);
+  }
   /// Whether face f of M_st is flipped by this untangler's rule.
   bool flipped(WF f) const { return flipped_on_target(f); }
   /// Whether face f of M_st may have a point farther than `limit` from the target: not certified within it
