@@ -40,25 +40,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-Multi_feature_correspondence read_columns(const std::string& path, std::size_t columns) {
-  std::ifstream in(path);
-  if (!in) throw Input_error(path + ": cannot open");
-  Multi_feature_correspondence out;
-  std::string line;
-  while (std::getline(in, line)) {
-    line = line.substr(0, line.find('#'));
-    std::istringstream s(line);
-    std::vector<std::size_t> row;
-    std::size_t x;
-    while (s >> x) row.push_back(x);
-    if (row.empty()) continue;
-    if (row.size() < columns) throw Input_error(path + ": a row with too few columns");
-    row.resize(columns);
-    out.push_back(row);
-  }
-  return out;
-}
-
 std::string fmt(double x, int digits = 3) {
   std::ostringstream s;
   s << std::fixed << std::setprecision(digits) << x;
@@ -143,9 +124,13 @@ Multi_case fourleg(const fs::path& dir, std::size_t n) {
   Multi_case c;
   c.name = dir.filename().string() + " (first " + std::to_string(n) + ")";
   c.meshes.resize(n);
-  for (std::size_t m = 0; m < n; ++m) read_triangle_mesh((dir / ("mesh_" + std::to_string(m) + ".off")).string(), c.meshes[m]);
-  c.features = read_columns((dir / "features.txt").string(), n);
-  c.landmarks = read_columns((dir / "truth" / "landmarks_eval.txt").string(), n);
+  std::vector<std::size_t> counts, columns;
+  for (std::size_t m = 0; m < n; ++m) {
+    read_triangle_mesh((dir / ("mesh_" + std::to_string(m) + ".off")).string(), c.meshes[m]);
+    counts.push_back(c.meshes[m].number_of_vertices()), columns.push_back(m);
+  }
+  c.features = read_multi_features((dir / "features.txt").string(), counts, columns);
+  c.landmarks = read_multi_features((dir / "truth" / "landmarks_eval.txt").string(), counts, columns);
   return c;
 }
 

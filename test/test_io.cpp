@@ -62,6 +62,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using crossparam::Feature_correspondence;
+using crossparam::Multi_feature_correspondence;
 using crossparam::Feature_error;
 using crossparam::Input_error;
 using crossparam::Polygon_soup;
@@ -1046,6 +1047,34 @@ TEST(Features, MalformedLines) {
     expect_error<Feature_error>([&] { crossparam::read_feature_pairs(path, 10, 20); },
                                 {path + ": line 3: ", "malformed", "two non-negative integers"});
   }
+}
+
+// The features of N meshes (read_multi_features): one column per mesh, or the columns chosen.
+TEST(Features, MultiColumnFiles) {
+  const std::vector<std::size_t> counts{10, 20, 30};
+  const std::string ok = write_file("multi.txt", "\xEF\xBB\xBF# three meshes\n0 5 29\r\n\n3 7 1 # comment\n9\t19 0\n");
+  const Multi_feature_correspondence fc = crossparam::read_multi_features(ok, counts);
+  ASSERT_EQ(fc.size(), 3u);
+  EXPECT_EQ(fc[0], (std::vector<std::size_t>{0, 5, 29}));
+  EXPECT_EQ(fc[2], (std::vector<std::size_t>{9, 19, 0}));
+  // Columns chosen: the third and the first of a file for three meshes, for two meshes of 30 and 10 vertices.
+  const Multi_feature_correspondence two = crossparam::read_multi_features(ok, {30, 10}, {2, 0});
+  ASSERT_EQ(two.size(), 3u);
+  EXPECT_EQ(two[1], (std::vector<std::size_t>{1, 3}));
+  const auto bad = [&](const std::string& text, std::initializer_list<std::string> parts, std::vector<std::size_t> columns = {}) {
+    const std::string path = write_file("multibad.txt", text);
+    expect_error<Feature_error>([&] { crossparam::read_multi_features(path, counts, columns); }, parts);
+  };
+  bad("0 0 0\n1 1\n2 2 2\n", {": line 2: ", "2 vertices where 3 are needed"});
+  bad("0 0 0 0\n1 1 1\n2 2 2\n", {": line 1: ", "4 vertices where 3"});
+  bad("0 0 0\n1 x 1\n2 2 2\n", {": line 2: ", "'x' is not a vertex index"});
+  bad("0 0 0\n1 -1 1\n2 2 2\n", {": line 2: ", "not a vertex index"});
+  bad("0 0 0\n1 1 30\n2 2 2\n", {": line 2: ", "vertex 30 of mesh 2, which has 30 vertices"});
+  bad("0 0 0\n\n1 1 1\n2 1 2\n", {": line 4: ", "vertex 1 of mesh 1 is a duplicate", "line 3"});
+  bad("0 0 0\n1 1 1\n", {"at least three features are needed, found 2"});
+  bad("0 0 0\n1 1 1\n2 2 2\n", {"2 columns chosen for 3 meshes"}, {0, 1});
+  bad("0 0 0\n1 1 1\n2 2 2\n", {": line 1: ", "3 vertices where at least 4"}, {0, 1, 3});
+  expect_error<Feature_error>([&] { crossparam::read_multi_features((temp_dir() / "nope.txt").string(), counts); }, {"does not exist"});
 }
 
 TEST(Features, OutOfRangeDuplicatesAndTooFew) {

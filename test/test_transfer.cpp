@@ -569,26 +569,16 @@ TEST(MultiRemesh, FirstThreeOfFourleg5) {
   const std::filesystem::path dir = std::filesystem::path(CROSSPARAM_SHARED_DIR) / "bench_multi" / "fourleg5";
   if (!std::filesystem::exists(dir / "features.txt")) GTEST_SKIP() << "shared data not found at " << dir.string() << ": skipping";
   const std::size_t n = 3;
-  auto columns = [&](const std::filesystem::path& path) {
-    std::ifstream in(path);
-    Multi_feature_correspondence out;
-    for (std::string line; std::getline(in, line);) {
-      std::istringstream row(line.substr(0, line.find('#')));
-      std::vector<std::size_t> r;
-      for (std::size_t x; row >> x;) r.push_back(x);
-      if (r.empty()) continue;
-      r.resize(n);
-      out.push_back(r);
-    }
-    return out;
-  };
   std::vector<Surface_mesh> meshes(n);
-  std::size_t largest = 0;
+  std::vector<std::size_t> counts, columns;
   for (std::size_t m = 0; m < n; ++m) {
     read_triangle_mesh((dir / ("mesh_" + std::to_string(m) + ".off")).string(), meshes[m]);
-    largest = std::max<std::size_t>(largest, meshes[m].number_of_vertices());
+    counts.push_back(meshes[m].number_of_vertices()), columns.push_back(m);
   }
-  const Multi_feature_correspondence features = columns(dir / "features.txt"), landmarks = columns(dir / "truth" / "landmarks_eval.txt");
+  const std::size_t largest = *std::max_element(counts.begin(), counts.end());
+  // The files have one column per mesh of the five: the first three are read.
+  const Multi_feature_correspondence features = read_multi_features((dir / "features.txt").string(), counts, columns),
+                                     landmarks = read_multi_features((dir / "truth" / "landmarks_eval.txt").string(), counts, columns);
   ASSERT_EQ(features.size(), 11u);
   ASSERT_EQ(landmarks.size(), 10u);
   const Multi_remesher<Surface_mesh> r(meshes, features,

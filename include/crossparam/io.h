@@ -93,6 +93,61 @@ inline Feature_correspondence read_feature_pairs(const std::string& path, std::s
   return fc;
 }
 
+/// Reads the features of N meshes: one row per feature, whitespace-separated 0-based vertex indices, one column
+/// per mesh; '#' starts a comment, blank lines are ignored, a UTF-8 byte order mark is skipped. With `columns`
+/// empty, every row has exactly `vertex_counts.size()` entries; otherwise `columns[m]` is the column read for
+/// mesh m (so that a file written for N meshes serves any of them in any order) and every row has an entry there.
+/// Each index must be below its mesh's vertex count, no vertex of a mesh may be two features, and there must be
+/// at least three rows. Used by `crossparam remesh` with three or more meshes.
+/// \throws Feature_error("<path>: [line N: ]<problem>") for a missing or unreadable file, a malformed line or an
+///         invalid correspondence.
+inline Multi_feature_correspondence read_multi_features(const std::string& path, const std::vector<std::size_t>& vertex_counts,
+                                                        const std::vector<std::size_t>& columns = {}) {
+  namespace sio = internal::soup_io;
+  const sio::Reporter<Feature_error> rep{path};
+  if (!columns.empty() && columns.size() != vertex_counts.size())
+    rep.fail(std::to_string(columns.size()) + " columns chosen for " + std::to_string(vertex_counts.size()) + " meshes");
+  const std::string bytes = sio::read_whole_file<Feature_error>(path);
+  std::string_view text(bytes);
+  if (sio::starts_with(text, "\xEF\xBB\xBF")) text.remove_prefix(3);
+  sio::Line_cursor lc{text};
+  std::string_view line;
+  std::vector<std::string_view> toks;
+  std::vector<std::vector<std::size_t>> used; // per mesh and vertex: the line of the feature that has it, 0 if none
+  for (std::size_t c : vertex_counts) used.emplace_back(c, 0);
+  Multi_feature_correspondence out;
+  while (lc.next(line)) {
+    sio::split(line, toks, true);
+    if (toks.empty()) continue;
+    std::vector<std::uint64_t> row(toks.size());
+    for (std::size_t i = 0; i < toks.size(); ++i) {
+      const std::string_view t = toks[i];
+      if (t.empty() || !std::all_of(t.begin(), t.end(), [](char c) { return c >= '0' && c <= '9'; }) ||
+          !sio::parse_count(t, row[i]))
+        rep.fail_line(lc.line, sio::quote(t) + " is not a vertex index (a non-negative integer)");
+    }
+    const std::size_t needed = columns.empty() ? vertex_counts.size() : *std::max_element(columns.begin(), columns.end()) + 1;
+    if (columns.empty() ? row.size() != needed : row.size() < needed)
+      rep.fail_line(lc.line, std::to_string(row.size()) + " vertices where " + (columns.empty() ? "" : "at least ") +
+                                 std::to_string(needed) + " are needed (one column per mesh)");
+    std::vector<std::size_t> feature(vertex_counts.size());
+    for (std::size_t m = 0; m < vertex_counts.size(); ++m) {
+      const std::uint64_t v = row[columns.empty() ? m : columns[m]];
+      if (v >= vertex_counts[m])
+        rep.fail_line(lc.line, "vertex " + std::to_string(v) + " of mesh " + std::to_string(m) + ", which has " +
+                                   std::to_string(vertex_counts[m]) + " vertices");
+      if (used[m][v] != 0)
+        rep.fail_line(lc.line, "vertex " + std::to_string(v) + " of mesh " + std::to_string(m) +
+                                   " is a duplicate: it is already the feature of line " + std::to_string(used[m][v]));
+      used[m][v] = lc.line;
+      feature[m] = static_cast<std::size_t>(v);
+    }
+    out.push_back(std::move(feature));
+  }
+  if (out.size() < 3) rep.fail("at least three features are needed, found " + std::to_string(out.size()));
+  return out;
+}
+
 // ---------------------------------------------------------------------------------------------- writing
 
 /// Writes a file via `write` into "<path>.tmp-XXXXXXXX" in the same directory, then renames it over `path`, so

@@ -29,6 +29,7 @@
 #include <crossparam/errors.h>
 #include <crossparam/internal/remeshing/common_refinement.h>
 #include <crossparam/internal/remeshing/output_repair.h>
+#include <crossparam/types.h>
 
 #include <algorithm>
 #include <chrono>
@@ -39,9 +40,6 @@
 #include <vector>
 
 namespace crossparam {
-
-/// Features of N meshes: row k is feature k, its entry m the vertex (0-based, input order) of mesh m.
-using Multi_feature_correspondence = std::vector<std::vector<std::size_t>>;
 
 /// Value of the named parameter `source_mesh` that picks the mesh with the most vertices as the source.
 constexpr std::size_t finest_mesh = std::size_t(-1);

@@ -29,6 +29,8 @@ struct Feature_pair {
   }
 };
 using Feature_correspondence = std::vector<Feature_pair>;
+/// Features of N meshes: row k is feature k, its entry m the vertex (0-based, input order) of mesh m.
+using Multi_feature_correspondence = std::vector<std::vector<std::size_t>>;
 
 /// A polygon soup exactly as read from a file: points and polygons (0-based point indices) in file order.
 struct Polygon_soup {

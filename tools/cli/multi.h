@@ -25,44 +25,6 @@
 namespace crossparam {
 namespace cli {
 
-/// Reads a correspondence of N meshes: one line per feature with one vertex (0-based) per mesh, '#' comments,
-/// blank lines ignored; each column's vertices distinct and within its mesh's vertex count.
-/// \throws Feature_error("<path>: line N: <problem>")
-inline Multi_feature_correspondence read_multi_features(const std::string& path, const std::vector<std::size_t>& vertex_counts) {
-  std::ifstream in(path);
-  if (!in) throw Feature_error(path + ": cannot open the file");
-  Multi_feature_correspondence out;
-  std::vector<std::vector<char>> used;
-  for (std::size_t c : vertex_counts) used.emplace_back(c, 0);
-  std::string line;
-  for (std::size_t n = 1; std::getline(in, line); ++n) {
-    line = line.substr(0, line.find('#'));
-    std::istringstream s(line);
-    std::vector<std::size_t> row;
-    std::string tok;
-    while (s >> tok) {
-      if (tok.find_first_not_of("0123456789") != std::string::npos || tok.size() > 18)
-        throw Feature_error(path + ": line " + std::to_string(n) + ": '" + tok + "' is not a vertex index");
-      row.push_back(std::stoull(tok));
-    }
-    if (row.empty()) continue;
-    if (row.size() != vertex_counts.size())
-      throw Feature_error(path + ": line " + std::to_string(n) + ": " + std::to_string(row.size()) + " vertices for " +
-                          std::to_string(vertex_counts.size()) + " meshes (one column per mesh is needed)");
-    for (std::size_t m = 0; m < row.size(); ++m) {
-      if (row[m] >= vertex_counts[m])
-        throw Feature_error(path + ": line " + std::to_string(n) + ": vertex " + std::to_string(row[m]) + " of mesh " +
-                            std::to_string(m) + ", which has " + std::to_string(vertex_counts[m]) + " vertices");
-      if (used[m][row[m]]++)
-        throw Feature_error(path + ": line " + std::to_string(n) + ": vertex " + std::to_string(row[m]) + " of mesh " +
-                            std::to_string(m) + " is already a feature");
-    }
-    out.push_back(row);
-  }
-  if (out.size() < 3) throw Feature_error(path + ": at least three features are needed");
-  return out;
-}
-
 /// `remesh M0 M1 M2 ...`: one connectivity for all, compatible_<k>.off per mesh in command-line order, each
 /// output checked against its input by the independent verifier, and report.json.
 inline int run_multi_remesh(const Options& o) {
