@@ -197,7 +197,9 @@ inline std::vector<WV> repair_face(Remesh_state& s, Target_untangler& flips, WF 
 }
 
 /// The rings of the disk repair of the two-mesh remeshing (embed_disk()): as many as the N-way output repair's
-/// (output_repair_disk_rings), for the same reason; on the bench the disks kept have at most 3 rings.
+/// (output_repair_disk_rings). Ten rings hold a few hundred faces on a regular mesh: one sparse solve and one
+/// local_bad() each, so the growth costs little beside the repairs before it; a bad face that a disk of that
+/// size does not mend is a fold of the map at a larger scale, which moving M_st along the target does not undo.
 constexpr unsigned strict_repair_disk_rings = 10;
 
 /// The disk repair of bad face f of M_st (disk_embedding.h): the faces within r rings of f (r = 1 ...
