@@ -6,7 +6,8 @@
 // creases or in self-intersecting pairs, remeshing_verification.h). Bad
 // faces get edge flips that keep the source's surface, then refinement in the target's metric, new vertices at
 // F of source points (the map is one-to-one and orientation preserving, so a fine enough M_st follows the
-// target), and what the refinement leaves flipped is untangled along the target. Flips at the target's own
+// target), and what the refinement leaves flipped is untangled along the target; last, the disk of faces
+// around a bad face is laid out anew along the target (disk_embedding.h). Flips at the target's own
 // folds are repaired too, although the verifier lets them pass: the fewer the better.
 #ifndef CROSSPARAM_INTERNAL_REMESHING_STRICT_REPAIR_H
 #define CROSSPARAM_INTERNAL_REMESHING_STRICT_REPAIR_H
@@ -208,7 +209,9 @@ constexpr unsigned strict_repair_disk_rings = 10;
 /// stays: this is M_st leaving F, as the untangling does). A disk is a candidate only if every face of it is
 /// certified within `within` of the target (Target_untangler::far()); of the candidates whose bad figure
 /// (Strict_checker::local_bad() over `region` and the disk) is below `before`, the lowest is kept (the first at 0
-/// ends the growth). Returns whether one was kept; M_st is as before otherwise.
+/// ends the growth). Returns whether one was kept; M_st is as before otherwise. The distance from the target to
+/// the disk is not tested (the decimation's coverage test, overlay_decimation.h, is not applied here): a disk
+/// that cuts across a protrusion of the target would open a gap that only the verifier's two-sided distance sees.
 inline bool embed_disk(Remesh_state& s, Target_untangler& flips, const Strict_checker& check, WF f,
                        const std::vector<WF>& region, std::size_t before, double within) {
   const auto& m = s.mesh.m;
@@ -269,7 +272,8 @@ inline bool embed_disk(Remesh_state& s, Target_untangler& flips, const Strict_ch
 /// vertex the repair moved or made) goes below that of the two-ring before. The repairs, in order, the first
 /// kept: the untangling around it (Target_untangler::untangle_around()); repair_face() as M_st is, with its
 /// corners back at F, and with its two-ring back at F; one split of its longest edge, then the untangling
-/// around each face of the split still flipped (the new vertex gives the untangling a degree of freedom). Passes over the bad faces until a pass keeps nothing,
+/// around each face of the split still flipped (the new vertex gives the untangling a degree of freedom); the disk
+/// repair around it (embed_disk()). Passes over the bad faces until a pass keeps nothing,
 /// at most `max_passes`, and not past `max_vertices` vertices; a face whose every repair failed is not tried
 /// again. No repair that is kept adds a bad face in its region; faces outside the region are not counted, so
 /// the total can rise where repairs change them (it falls on the bench; on feline_g2 the flipped faces rose).
