@@ -18,6 +18,7 @@
 //                                descriptor mismatch), all (every pair found kept) or off
 //   --extremity-persistence X    their persistence threshold (default 0.05, in sqrt(area) units)
 //   --straighten-paths           the layout's paths shortened once it is complete (parameters::straighten_paths)
+//   --map-smoothing on|off       the smoothing of F itself after the paper's (parameters::map_smoothing, default off)
 // The table's "descriptor mismatch" is the map's mean disagreement with the geodesic distances to the case's
 // features (Cross_parameterization::descriptor_mismatch), a figure that needs no truth.
 #include "../test/wide_cases.h"
@@ -216,7 +217,7 @@ int main(int argc, char** argv) {
   bool show_detail = false, png = false;
   fs::path ply_dir;
   unsigned threads = 1;
-  bool extremities = true, select = true, straighten = false;
+  bool extremities = true, select = true, straighten = false, smooth_map = false;
   double persistence = Cross_parameterization<Surface_mesh, Surface_mesh>::default_extremity_persistence;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -246,6 +247,14 @@ int main(int argc, char** argv) {
     }
     else if (a == "--straighten-paths")
       straighten = true;
+    else if (a == "--map-smoothing" && i + 1 < argc) {
+      const std::string m = argv[++i];
+      if (m != "off" && m != "on") {
+        std::fprintf(stderr, "bench_accuracy: --map-smoothing takes on or off\n");
+        return 2;
+      }
+      smooth_map = m == "on";
+    }
     else if (a == "--extremity-persistence" && i + 1 < argc)
       persistence = std::stod(argv[++i]);
     else if (!a.empty() && a[0] == '-') {
@@ -266,8 +275,8 @@ int main(int argc, char** argv) {
     std::snprintf(ext, sizeof ext, "%s (persistence %g)", select ? "selected by the worst descriptor mismatch" : "all kept",
                   persistence);
   std::printf("map accuracy on the wider bench, one run per case, %u thread(s), assertions %s; extremity features "
-              "%s;%s errors in units of sqrt(target area)\n\n",
-              threads, bench::assertions(), ext, straighten ? " paths straightened;" : "");
+              "%s;%s%s errors in units of sqrt(target area)\n\n",
+              threads, bench::assertions(), ext, straighten ? " paths straightened;" : "", smooth_map ? " map smoothing;" : "");
   std::printf("| case | truth | V source | V target | features (+ protrusion + extremity) | points | mean | median | max | "
               "nearest point | nearest after similarity | descriptor mismatch | time (s) |\n");
   std::printf("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
@@ -284,7 +293,7 @@ int main(int argc, char** argv) {
     const wide_bench::Outcome o = wide_bench::evaluate(
         *c, parameters::number_of_threads(threads, parameters::extremity_features(
                                                        extremities, parameters::select_extremity_features(select,
-                                                           parameters::extremity_persistence(persistence, parameters::straighten_paths(straighten))))));
+                                                           parameters::extremity_persistence(persistence, parameters::straighten_paths(straighten, parameters::map_smoothing(smooth_map)))))));
     if (!o.ok)
       std::printf("| %s | %s | %zu | %zu | %zu | | FAILED: %s | | | | | | %.1f |\n", n.c_str(), c->is_dense() ? "dense" : "landmarks",
                   o.source_vertices, o.target_vertices, o.features, o.message.c_str(), o.seconds);

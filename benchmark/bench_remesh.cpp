@@ -7,6 +7,7 @@
 //        are not ../shared/bench's (shrec, hand and tosca pairs), e.g. CASE_FILTER "tosca/" or "_k12".
 // TOLERANCES: one or several percentages separated by commas, e.g. 1,0.5,0.2,0.1 (default 0.5).
 // --straighten-paths (anywhere): the maps' layouts with their paths straightened (parameters::straighten_paths).
+// --map-smoothing (anywhere): the maps smoothed as maps after the paper's smoothing (parameters::map_smoothing).
 // --construction=refinement|overlay (anywhere): the remesher's construction (parameters::remeshing_construction;
 // default automatic). The column "built" says which one made each row's output.
 #include <crossparam/compatible_remeshing.h>
@@ -37,6 +38,8 @@ struct Remesh_case {
 
 /// Whether the maps' layouts have their paths straightened (--straighten-paths).
 bool straighten = false;
+/// Whether the maps are smoothed as maps (--map-smoothing).
+bool smooth_map = false;
 /// The remesher's construction (--construction=...).
 Remeshing_construction construction = Remeshing_construction::automatic;
 
@@ -48,7 +51,7 @@ void run(const Remesh_case& c, double tol) {
   std::unique_ptr<Cross_parameterization<Surface_mesh, Surface_mesh>> map;
   try {
     map = std::make_unique<Cross_parameterization<Surface_mesh, Surface_mesh>>(
-        s, t, c.features, crossparam::parameters::straighten_paths(straighten));
+        s, t, c.features, crossparam::parameters::straighten_paths(straighten, crossparam::parameters::map_smoothing(smooth_map)));
   } catch (const Insufficient_features_error& e) { // genus > 0 with too few features: reported, not fatal
     std::printf("| %s | %.3g | %zu/%zu | too few features: %s |\n", c.name.c_str(), tol, ns, nt, e.what());
     return;
@@ -87,6 +90,8 @@ int main(int argc_given, char** argv_given) {
   for (int i = 0; i < argc_given; ++i)
     if (std::string(argv_given[i]) == "--straighten-paths")
       straighten = true;
+    else if (std::string(argv_given[i]) == "--map-smoothing")
+      smooth_map = true;
     else if (!bench::construction_flag(argv_given[i], construction))
       args.push_back(argv_given[i]);
   const int argc = int(args.size());
@@ -95,8 +100,8 @@ int main(int argc_given, char** argv_given) {
   fs::path dir = argc > 1 && !wide ? fs::path(argv[1]) : fs::path(CROSSPARAM_SHARED_DIR) / "bench";
   const std::vector<double> tolerances = parse_tolerances(argc > 2 ? argv[2] : "0.5");
   const std::string filter = argc > 3 ? argv[3] : "";
-  std::printf("compatible remeshing, tolerance in %% of the target's bbox diagonal, one run per case, assertions %s%s%s\n\n",
-              bench::assertions(), straighten ? "; layout paths straightened" : "",
+  std::printf("compatible remeshing, tolerance in %% of the target's bbox diagonal, one run per case, assertions %s%s%s%s\n\n",
+              bench::assertions(), straighten ? "; layout paths straightened" : "", smooth_map ? "; maps smoothed as maps" : "",
               construction == Remeshing_construction::refinement ? "; refinement only"
               : construction == Remeshing_construction::overlay ? "; decimated overlay only" : "");
   std::printf("| case | tol. %% | input sizes (#v) | output size | added | L2 error (%%) | Hausdorff (%%) | flipped (at target folds) | >30°: faces / area %% | creases out / in | self-int. out / in (new) | valid | built | map (s) | remesh (s) | total (s) |\n");

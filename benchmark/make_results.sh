@@ -6,7 +6,7 @@
 #   bash benchmark/make_results.sh [BUILD_DIR [BENCH_DIR [TABLE...]]]
 #
 # BUILD_DIR defaults to build, BENCH_DIR to ../shared/bench beside the repository; TABLE is one of layout, map, remesh-0.5, remesh-1,
-# remesh-overlay, accuracy, wide, wide-off, wide-all, wide-straight (default: all; the four wider-bench tables read ../shared/data through
+# remesh-overlay, accuracy, wide, wide-off, wide-all, wide-straight, wide-map (default: all; the five wider-bench tables read ../shared/data through
 # bench_accuracy, not BENCH_DIR). Each table's output replaces the text between its markers in doc/results.md:
 #   <!-- make_results: TABLE BEGIN --> ... <!-- make_results: TABLE END -->
 set -euo pipefail
@@ -15,7 +15,7 @@ build=${1:-build}
 bench=${2:-$here/../shared/bench}
 shift $(( $# < 2 ? $# : 2 ))
 tables=("$@")
-[ ${#tables[@]} -gt 0 ] || tables=(layout map remesh-0.5 remesh-1 remesh-overlay accuracy wide wide-off wide-all wide-straight)
+[ ${#tables[@]} -gt 0 ] || tables=(layout map remesh-0.5 remesh-1 remesh-overlay accuracy wide wide-off wide-all wide-straight wide-map)
 results="$here/doc/results.md"
 cd "$here"
 
@@ -65,7 +65,8 @@ for t in "${tables[@]}"; do
     wide-off)       need "$build/benchmark/bench_accuracy"; "$build/benchmark/bench_accuracy" --extremity-features off > "$tmp" ;;
     wide-all)       need "$build/benchmark/bench_accuracy"; "$build/benchmark/bench_accuracy" --extremity-features all > "$tmp" ;;
     wide-straight)  need "$build/benchmark/bench_accuracy"; "$build/benchmark/bench_accuracy" --straighten-paths > "$tmp" ;;
-    *) echo "make_results: unknown table '$t' (layout, map, remesh-0.5, remesh-1, remesh-overlay, accuracy, wide, wide-off, wide-all, wide-straight)" >&2; exit 2 ;;
+    wide-map)       need "$build/benchmark/bench_accuracy"; "$build/benchmark/bench_accuracy" --map-smoothing on > "$tmp" ;;
+    *) echo "make_results: unknown table '$t' (layout, map, remesh-0.5, remesh-1, remesh-overlay, accuracy, wide, wide-off, wide-all, wide-straight, wide-map)" >&2; exit 2 ;;
   esac
   # The bench programs print a header line, a blank line and a table; drop trailing blank lines.
   sed -i -e :a -e '/^\n*$/{$d;N;ba' -e '}' "$tmp"

@@ -27,8 +27,12 @@ struct Bounds {
 // whose held-out fingertip is mapped far from every fingertip (bench_accuracy --detail hand). With every
 // extremity pair kept: 0.0395, 0.0987, 0.0379, 0.0420 on the whole set. With the layout's paths straightened
 // (parameters::straighten_paths): 0.0242, 0.0504 (shrec/382_385), 0.0290, 0.0220 on the subset and 0.0358,
-// 0.0883 (shrec/382_383), 0.0334, 0.0395 on the whole set.
+// 0.0883 (shrec/382_383), 0.0334, 0.0395 on the whole set. With the map smoothing (parameters::map_smoothing):
+// 0.0240, 0.0424 (shrec/382_385), 0.0280, 0.0223 on the subset and 0.0353, 0.0895 (shrec/382_383), 0.0328,
+// 0.0390 on the whole set.
 constexpr Bounds subset_bounds{0.0285, 0.055, 0.034, 0.0262};
+constexpr Bounds map_subset_bounds{0.0265, 0.047, 0.031, 0.0245};
+constexpr Bounds map_all_bounds{0.0388, 0.098, 0.0361, 0.0429};
 constexpr Bounds straight_subset_bounds{0.0267, 0.0555, 0.032, 0.0243};
 constexpr Bounds straight_all_bounds{0.0394, 0.097, 0.0368, 0.0435};
 constexpr Bounds all_bounds{0.0415, 0.10, 0.0397, 0.044};
@@ -43,7 +47,7 @@ enum class Extremities { select, off, all };
 
 /// The maps of the named cases, with the extremity features as `mode` says and the layout's paths straightened
 /// or not.
-Results run(const std::vector<std::string>& names, Extremities mode, bool straighten) {
+Results run(const std::vector<std::string>& names, Extremities mode, bool straighten, bool map_smoothing) {
   namespace cp = crossparam::parameters;
   Results r;
   for (const std::string& n : names) {
@@ -51,7 +55,7 @@ Results run(const std::vector<std::string>& names, Extremities mode, bool straig
     if (!c) continue;
     r.emplace_back(n, wide_bench::evaluate(*c, cp::extremity_features(mode != Extremities::off,
                                                                       cp::select_extremity_features(mode == Extremities::select,
-                                                                          cp::straighten_paths(straighten)))));
+                                                                          cp::straighten_paths(straighten, cp::map_smoothing(map_smoothing))))));
     const wide_bench::Outcome& o = r.back().second;
     std::cout << "[ accuracy ] " << n << ": " << (o.ok ? "" : "FAILED " + o.message) << " mean " << o.mean << " max "
               << o.max << " (nearest point " << o.baseline_mean << ")\n";
@@ -80,11 +84,11 @@ const std::vector<std::string>& subset_names() {
   return subset;
 }
 
-/// Runs the cases (with the extremity features as `mode` says, the paths straightened if `straighten`) and checks
-/// the aggregates against the bounds; skips when the shared data is absent.
+/// Runs the cases (with the extremity features as `mode` says, the paths straightened if `straighten`, the map
+/// smoothed if `map_smoothing`) and checks the aggregates against the bounds; skips when the shared data is absent.
 void run_and_check(const std::string& label, const std::vector<std::string>& names, Extremities mode, const Bounds& b,
-                   bool straighten = false) {
-  const Results r = run(names, mode, straighten);
+                   bool straighten = false, bool map_smoothing = false) {
+  const Results r = run(names, mode, straighten, map_smoothing);
   if (r.empty()) GTEST_SKIP() << "shared data not found at " << wide_bench::shared_dir() << ": skipping";
   ASSERT_EQ(r.size(), names.size()) << "part of the shared data is missing";
   const wide_bench::Aggregate all = wide_bench::aggregate(r);
@@ -120,6 +124,11 @@ TEST(WideBench, RepresentativeSubsetWithStraightenedPaths) {
   run_and_check("subset, paths straightened", subset_names(), Extremities::select, straight_subset_bounds, true);
 }
 
+// The map smoothing (parameters::map_smoothing, off by default): the option stays pinned too.
+TEST(WideBench, RepresentativeSubsetWithMapSmoothing) {
+  run_and_check("subset, map smoothing", subset_names(), Extremities::select, map_subset_bounds, false, true);
+}
+
 // The whole wider bench (several minutes each): CROSSPARAM_WIDE_BENCH=1.
 TEST(WideBench, WholeSet) {
   if (!whole_set_requested()) GTEST_SKIP() << "the whole wider bench runs with CROSSPARAM_WIDE_BENCH=1";
@@ -131,4 +140,5 @@ TEST(WideBench, WholeSetVariants) {
   run_and_check("all, no extremity features", wide_bench::names(), Extremities::off, off_all_bounds);
   run_and_check("all, every extremity pair kept", wide_bench::names(), Extremities::all, every_all_bounds);
   run_and_check("all, paths straightened", wide_bench::names(), Extremities::select, straight_all_bounds, true);
+  run_and_check("all, map smoothing", wide_bench::names(), Extremities::select, map_all_bounds, false, true);
 }

@@ -8,6 +8,7 @@
 #include <crossparam/metrics.h>
 #include <crossparam/patch_layout.h>
 #include <crossparam/smoothing.h>
+#include <crossparam/internal/map_smoothing.h>
 #include <crossparam/types.h>
 #include <crossparam/internal/base_locator.h>
 #include <crossparam/internal/parallel.h>
@@ -27,6 +28,8 @@ struct Cross_parameterization_statistics {
   Layout_statistics layout;
   Smoothing_report smoothing_source, smoothing_target;
   unsigned smoothing_best_iteration = 0; ///< passes after which the kept (least distorted) state was reached
+  Smoothing_report smoothing_map;        ///< the smoothing of F itself (`map_smoothing`), after the §4.2 smoothing
+  unsigned smoothing_map_best_iteration = 0; ///< its passes up to the kept state (0: none improved F)
   std::size_t protrusion_warps = 0;  ///< base triangles re-aligned by align_protrusions (descriptor-guided)
   std::size_t protrusion_features = 0; ///< feature pairs added at squeezed protrusion tips (after the user's)
   std::size_t extremity_features = 0;  ///< feature pairs added at mis-mapped extremities (after those)
@@ -44,7 +47,7 @@ struct Cross_parameterization_statistics {
   double seconds_probe = 0;            ///< the first map that finds the protrusion and extremity features (0 if none was made)
   double seconds_selection = 0;        ///< the two candidate maps of the extremity selection (0 if none was made)
   double seconds_parameterization = 0; ///< §4.1, both meshes
-  double seconds_smoothing = 0;        ///< §4.2, both meshes
+  double seconds_smoothing = 0;        ///< §4.2, both meshes, and the map smoothing
   double seconds_certificate = 0;
   double seconds_total = 0;            ///< layout included
 };
@@ -127,6 +130,7 @@ public:
     so.max_iterations = choose_parameter(get_parameter(np_source, CGAL::internal_np::number_of_iterations), 200u);
     so.tolerance = choose_parameter(get_parameter(np_source, internal_np::smoothing_tolerance_t()), 1e-4);
     const bool smooth = choose_parameter(get_parameter(np_source, internal_np::apply_smoothing_t()), true);
+    const bool smooth_map = choose_parameter(get_parameter(np_source, internal_np::map_smoothing_t()), false);
     auto weights = choose_parameter(get_parameter(np_source, internal_np::smoothing_weights_t()), Mean_value_weights());
     const unsigned threads_requested = choose_parameter(get_parameter(np_source, internal_np::number_of_threads_t()), 0u);
     threads_ = internal::thread_count(threads_requested);
@@ -160,7 +164,7 @@ public:
       // A map with features `fc` and this map's options (neither protrusion nor extremity features), made on
       // copies of the inputs in the same vertex order, so that feature indices carry over (the copy assumes
       // the checked, closed manifold meshes); returns use(map). The meshes passed in are not touched.
-      auto on_copies = [&](const Feature_correspondence& fc, unsigned threads, const auto& use) {
+      auto on_copies = [&](const Feature_correspondence& fc, unsigned threads, bool with_map_smoothing, const auto& use) {
         Surface_mesh cs, ct;
         internal::copy_in_order(tm_s, choose_parameter(get_parameter(np_source, CGAL::internal_np::vertex_point),
                                                        get_const_property_map(CGAL::vertex_point, tm_s)), cs);
@@ -169,17 +173,19 @@ public:
         const Cross_parameterization<Surface_mesh, Surface_mesh> m(
             cs, ct, fc,
             internal::inputs_checked(protrusion_features(false, extremity_features(false, smoothing_weights(weights,
-                smoothing_tolerance(so.tolerance, apply_smoothing(smooth, apply_path_flips(flips, consistent_paths(
+                smoothing_tolerance(so.tolerance, apply_smoothing(smooth, map_smoothing(with_map_smoothing, apply_path_flips(flips, consistent_paths(
                     consistent, straighten_paths(straighten, number_of_threads(threads, time_limit(budget.remaining(),
-                        best_effort(budget.best_effort(), number_of_iterations(so.max_iterations))))))))))))));
+                        best_effort(budget.best_effort(), number_of_iterations(so.max_iterations)))))))))))))));
         return use(m);
       };
       Feature_correspondence tips, ends;
       double probe_mismatch = 0; // the probe's worst descriptor mismatch, for the selection below
-      on_copies(features, threads_requested, [&](const auto& probe) {
+      // The probe finds the protrusions from the squeeze of the paper's parameterizations: no map smoothing.
+      on_copies(features, threads_requested, false, [&](const auto& probe) {
         if (protrusions) tips = probe.protrusion_tips();
         if (extremities) ends = probe.extremity_tips(tips, persistence);
-        if (!ends.empty() && select && tips.empty()) probe_mismatch = probe.max_descriptor_mismatch(features.size());
+        if (!ends.empty() && select && tips.empty() && !smooth_map)
+          probe_mismatch = probe.max_descriptor_mismatch(features.size());
         return 0;
       });
       features_.insert(features_.end(), tips.begin(), tips.end());
@@ -201,17 +207,17 @@ public:
         // time limit is not a failure of the candidate and ends the whole computation.
         auto candidate = [&](const Feature_correspondence& fc, unsigned threads) -> double {
           try {
-            return on_copies(fc, threads, [&](const auto& m) { return m.max_descriptor_mismatch(features.size()); });
+            return on_copies(fc, threads, smooth_map, [&](const auto& m) { return m.max_descriptor_mismatch(features.size()); });
           } catch (const Time_limit_error&) {
             throw;
           } catch (const Error&) {
             return HUGE_VAL;
           }
         };
-        // Without protrusion pairs, the map without the extremity pairs is the probe itself: its figure is
-        // taken, and only the map with them is made.
+        // Without protrusion pairs or map smoothing, the map without the extremity pairs is the probe itself:
+        // its figure is taken, and only the map with them is made.
         double without = probe_mismatch, with_ends = 0;
-        if (tips.empty()) {
+        if (tips.empty() && !smooth_map) {
           with_ends = candidate(with, threads_requested);
         } else {
           const unsigned each = threads_ >= 2 ? 1u : threads_;
@@ -282,28 +288,52 @@ public:
     stats_.distortion_initial = measure_distortion();
     say("map: initial parameterization: E_ang " + std::to_string(stats_.distortion_initial.angular));
 
-    // §4.2: local smoothing with the weights policy.
+    // §4.2: local smoothing with the weights policy, in rounds of 5 passes; F's angular distortion is measured
+    // after each round and the best state of both parameterizations kept (`start`: the distortion before). The averaging's fixed point is
+    // a harmonic-like map with point constraints at the features, which can be worse than an intermediate state:
+    // stop after `patience` rounds without improvement, when the largest move of a round's last pass is below
+    // the tolerance, or after `max_iterations` passes. `round(passes)` makes the passes and returns that move.
     const auto t3 = clock::now();
+    auto in_rounds = [&](const char* what, Smoothing_report& report, unsigned& best_iteration, Distortion start,
+                         const auto& round) {
+      std::array<std::vector<Base_location>, 2> best{P_[0].loc, P_[1].loc};
+      Distortion best_d = start;
+      unsigned bad = 0, done = 0;
+      const unsigned per_round = 5, patience = 2;
+      while (done < so.max_iterations) {
+        if (budget.stop(std::string("the map's ") + what, [&] {
+              return std::to_string(done) + " of at most " + std::to_string(so.max_iterations) + " passes";
+            }))
+          break; // best effort: keep the best state so far
+        const unsigned passes = std::min(per_round, so.max_iterations - done);
+        const double moved = round(passes);
+        done += passes;
+        report.iterations = done;
+        say(std::string("map: ") + what + ": " + std::to_string(done) + " passes");
+        locator_[1].build(P_[1]);
+        const Distortion d = measure_distortion();
+        if (d.angular < best_d.angular) {
+          best_d = d;
+          best = {P_[0].loc, P_[1].loc};
+          best_iteration = done;
+          bad = 0;
+        } else if (++bad >= patience) {
+          break;
+        }
+        if (moved < so.tolerance) break;
+      }
+      P_[0].loc = std::move(best[0]);
+      P_[1].loc = std::move(best[1]);
+      locator_[1].build(P_[1]);
+    };
     if (smooth) {
       auto ws = weights, wt = weights;
       ws.prepare(B_.side[0].m);
       wt.prepare(B_.side[1].m);
       internal::Local_smoother<decltype(ws)> smooth_s(P_[0], ws);
       internal::Local_smoother<decltype(wt)> smooth_t(P_[1], wt);
-      // Smoothing in rounds; F's angular distortion is measured after each round and the best state kept.
-      // The averaging's fixed point is a harmonic-like map with point constraints at the features, which can
-      // be worse than an intermediate state: stop after `patience` rounds without improvement.
-      std::array<std::vector<Base_location>, 2> best{P_[0].loc, P_[1].loc};
-      Distortion best_d = stats_.distortion_initial;
-      unsigned bad = 0, done = 0;
-      const unsigned per_round = 5, patience = 2;
-      while (done < so.max_iterations) {
-        if (budget.stop("the map's smoothing", [&] {
-              return std::to_string(done) + " of at most " + std::to_string(so.max_iterations) + " passes";
-            }))
-          break; // best effort: keep the best state so far
+      in_rounds("smoothing", stats_.smoothing_source, stats_.smoothing_best_iteration, stats_.distortion_initial, [&](unsigned passes) {
         // The two meshes' passes are independent (each moves only its own vertices): one thread each.
-        const unsigned passes = std::min(per_round, so.max_iterations - done);
         internal::parallel_invoke(
             threads_,
             [&] {
@@ -314,24 +344,9 @@ public:
               for (unsigned i = 0; i < passes; ++i)
                 stats_.smoothing_target.last_max_move = smooth_t.pass(stats_.smoothing_target);
             });
-        done += passes;
-        say("map: smoothing: " + std::to_string(done) + " passes");
-        const double moved = std::max(stats_.smoothing_source.last_max_move, stats_.smoothing_target.last_max_move);
-        stats_.smoothing_source.iterations = stats_.smoothing_target.iterations = done;
-        locator_[1].build(P_[1]);
-        Distortion d = measure_distortion();
-        if (d.angular < best_d.angular) {
-          best_d = d;
-          best = {P_[0].loc, P_[1].loc};
-          stats_.smoothing_best_iteration = done;
-          bad = 0;
-        } else if (++bad >= patience) {
-          break;
-        }
-        if (moved < so.tolerance) break;
-      }
-      P_[0].loc = std::move(best[0]);
-      P_[1].loc = std::move(best[1]);
+        return std::max(stats_.smoothing_source.last_max_move, stats_.smoothing_target.last_max_move);
+      });
+      stats_.smoothing_target.iterations = stats_.smoothing_source.iterations;
     }
     {
       // Protrusion alignment, kept only if F stays less distorted than the initial map (with meaningless
@@ -346,6 +361,19 @@ public:
           stats_.protrusion_warps = 0;
         }
       }
+    }
+    if (smooth && smooth_map) {
+      // The smoothing of F itself (internal/map_smoothing.h): the source's vertices move so that F is
+      // harmonic-like from the source onto the target, with the source's smoothing weights.
+      auto ws = weights;
+      ws.prepare(B_.side[0].m);
+      locator_[1].build(P_[1]);
+      internal::Map_smoother<decltype(ws)> smooth_f(P_[0], P_[1], locator_[1], ws);
+      in_rounds("map smoothing", stats_.smoothing_map, stats_.smoothing_map_best_iteration, measure_distortion(),
+                [&](unsigned passes) {
+        for (unsigned i = 0; i < passes; ++i) stats_.smoothing_map.last_max_move = smooth_f.pass(stats_.smoothing_map);
+        return stats_.smoothing_map.last_max_move;
+      });
     }
     const auto t4 = clock::now();
     (void)budget.stop("the cross-parameterization", [] { return std::string("before the certificates"); });

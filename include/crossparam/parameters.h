@@ -29,6 +29,7 @@ struct straighten_paths_t {};   ///< bool: each finished path shortened inside i
 struct smoothing_weights_t {};   ///< a model of SmoothingWeights (default Mean_value_weights)
 struct smoothing_tolerance_t {}; ///< double, base-edge units (default 1e-4)
 struct apply_smoothing_t {};     ///< bool (default true)
+struct map_smoothing_t {};       ///< bool (default false)
 struct protrusion_features_t {}; ///< bool (default true)
 struct extremity_features_t {};  ///< bool (default true)
 struct select_extremity_features_t {}; ///< bool (default true)
@@ -83,6 +84,7 @@ CROSSPARAM_ADD_NAMED_PARAMETER(smoothing_weights)
 CROSSPARAM_ADD_NAMED_PARAMETER(smoothing_tolerance)
 /// \brief `bool`, default `true`: whether to smooth the parameterizations (§4.2).
 CROSSPARAM_ADD_NAMED_PARAMETER(apply_smoothing)
+CROSSPARAM_ADD_NAMED_PARAMETER(map_smoothing)
 /// \brief `bool`, default `true`: add feature pairs at the tips of protrusions that a first map squeezes (an
 /// addition to the paper; see doc/algorithms.md). The pairs added are appended to the user's.
 CROSSPARAM_ADD_NAMED_PARAMETER(protrusion_features)

@@ -135,7 +135,7 @@ public:
         bool ok = true;
         for (WH h : CGAL::halfedges_around_source(v, m)) {
           Point_2 q;
-          if (!chart_point(B, c, p_[m.target(h)], q)) {
+          if (!B.chart_point(c, p_[m.target(h)], q)) {
             ok = false;
             break;
           }
@@ -151,7 +151,7 @@ public:
         }
         if (!(sw > 0)) break;
         Point_2 target(sx / sw, sy / sw), old;
-        chart_point(B, c, p_[v], old);
+        B.chart_point(c, p_[v], old);
         Base_location moved;
         if (!B.locate_in_chart(c, target, moved)) {
           ++r.rejected;
@@ -185,14 +185,6 @@ public:
   }
 
 private:
-  /// Coordinates of l in the 4-triangle chart of c (c's frame, neighbours unfolded).
-  static bool chart_point(const Base_mesh& B, int c, const Base_location& l, Point_2& q) {
-    if (B.frame_point(c, -1, l, q)) return true;
-    for (int n = 0; n < 3; ++n)
-      if (B.frame_point(c, n, l, q)) return true;
-    return false;
-  }
-
   Base_parameterization& p_;
   const Weights& w_;
   Accept accept_;

@@ -116,12 +116,12 @@ inline Map cross_parameterize(const Options& o, Surface_mesh& s, Surface_mesh& t
   return Map(s, t, f,
              cp::apply_path_flips(
                  o.flips, cp::straighten_paths(o.straighten, cp::apply_smoothing(
-                              o.smoothing, cp::protrusion_features(
+                              o.smoothing, cp::map_smoothing(o.map_smoothing, cp::protrusion_features(
                                                o.protrusion_features, cp::extremity_features(o.extremity_features,
                                                cp::select_extremity_features(o.select_extremities, cp::number_of_threads(
                                                    o.threads, cp::time_limit(remaining_seconds(o), cp::best_effort(o.best_effort,
                                                        cp::progress(progress_printer(o),
-                                                           CGAL::parameters::number_of_iterations(o.iterations))))))))))),
+                                                           CGAL::parameters::number_of_iterations(o.iterations)))))))))))),
              CGAL::parameters::default_values());
 }
 

@@ -45,9 +45,9 @@ inline int run_multi_remesh(const Options& o) {
   const Multi_remesher<Surface_mesh> r(
       meshes, features,
       tolerance(o.tolerance, remeshing_construction(o.construction, progress(progress_printer(o), number_of_threads(o.threads, source_mesh(o.source_mesh,
-          apply_path_flips(o.flips, straighten_paths(o.straighten, apply_smoothing(o.smoothing,
+          apply_path_flips(o.flips, straighten_paths(o.straighten, apply_smoothing(o.smoothing, map_smoothing(o.map_smoothing,
               protrusion_features(o.protrusion_features, extremity_features(o.extremity_features,
-                  select_extremity_features(o.select_extremities, CGAL::parameters::number_of_iterations(o.iterations)))))))))))));
+                  select_extremity_features(o.select_extremities, CGAL::parameters::number_of_iterations(o.iterations))))))))))))));
   const Multi_remeshing_statistics& S = r.statistics();
   // The independent checks: one face list, and each output against its own input.
   Timer tv;

@@ -58,6 +58,10 @@ inline const char* const usage_text =
     "                    remeshing with more flipped faces)\n"
     "  --iterations N    smoothing passes at most (map; default 200)\n"
     "  --no-smoothing    skip the smoothing of section 4.2 (map)\n"
+    "  --map-smoothing   map, remesh, demo: after the smoothing of section 4.2, smooth the map itself\n"
+    "                    (the source's vertices move so that their images average their neighbours' on the\n"
+    "                    target; on the wider bench a more accurate map on average, at about 2.4 times the\n"
+    "                    map's time)\n"
     "  --no-protrusion-features\n"
     "                    use only the given features (map, remesh, demo): no pairs added at the tips of\n"
     "                    squeezed protrusions\n"
@@ -114,6 +118,7 @@ struct Options {
   bool quiet = false;
   bool png = false;
   bool smoothing = true;
+  bool map_smoothing = false;
   bool protrusion_features = true;
   bool extremity_features = true;  ///< look for pairs at extremities
   bool select_extremities = true;  ///< keep them only if they lower the worst descriptor mismatch
@@ -196,6 +201,7 @@ inline Options parse(int argc, char** argv) {
     else if (a == "--straighten-paths") o.straighten = true;
     else if (a == "--png") o.png = true;
     else if (a == "--no-smoothing") o.smoothing = false;
+    else if (a == "--map-smoothing") o.map_smoothing = true;
     else if (a == "--no-protrusion-features") o.protrusion_features = false;
     else if (a == "--extremity-features") o.extremity_features = true, o.select_extremities = false;
     else if (a == "--no-extremity-features") o.extremity_features = false;

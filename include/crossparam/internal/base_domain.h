@@ -177,6 +177,15 @@ struct Base_mesh {
     return true;
   }
 
+  /// Coordinates of l in the 4-triangle chart of c (c's frame, its three neighbours unfolded around it): c
+  /// itself first, then the neighbour slots in order. Returns false if l is in none of the four.
+  bool chart_point(int c, const Base_location& l, Point_2& p) const {
+    if (frame_point(c, -1, l, p)) return true;
+    for (int n = 0; n < 3; ++n)
+      if (frame_point(c, n, l, p)) return true;
+    return false;
+  }
+
   /// The canonical frame of a set of locations: their common stored triangle if they share one; otherwise
   /// the lowest base triangle c, then the lowest slot n (-1, i.e.
   /// c alone, first), such that every location is in c or in neighbour nb[c][n], and the straight image stays
