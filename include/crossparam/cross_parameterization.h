@@ -1177,6 +1177,8 @@ private:
       image[v] = internal::point_at(mt, locator_[1].locate(P_[0][v]));
     });
     std::vector<std::array<Point_3, 3>> from, to;
+    from.reserve(ms.number_of_faces());
+    to.reserve(ms.number_of_faces());
     for (internal::WF f : ms.faces()) {
       internal::WH h = ms.halfedge(f);
       internal::WV a = ms.source(h), b = ms.target(h), c = ms.target(ms.next(h));

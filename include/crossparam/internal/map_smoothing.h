@@ -44,10 +44,10 @@ public:
   /// base-edge units.
   double pass(Smoothing_report& r) {
     const Work_mesh& ms = s_.mesh->m;
-    const Work_mesh& mt = t_.mesh->m;
     if (image_.size() != ms.number_of_vertices()) {
+      at_.resize(ms.number_of_vertices());
       image_.resize(ms.number_of_vertices());
-      for (WV v : ms.vertices()) image_[v] = point_at(mt, lt_.locate(s_[v]));
+      for (WV v : ms.vertices()) relocate(v);
     }
     double max_move = 0;
     for (WV v : ms.vertices()) {
@@ -60,9 +60,9 @@ public:
         d = d + w * (image_[ms.target(h)] - image_[v]);
       }
       if (!(sw > 0)) continue;
-      if (move(v, lt_.locate(s_[v]), d / sw, max_move, r)) {
+      if (move(v, d / sw, max_move, r)) {
         ++r.moves;
-        image_[v] = point_at(mt, lt_.locate(s_[v]));
+        relocate(v);
       } else {
         ++r.rejected;
       }
@@ -71,13 +71,19 @@ public:
   }
 
 private:
-  /// Moves source vertex v, whose image is at target location `at`, so that its image moves by z (a vector in
-  /// the plane of that face), pulled back into a base chart around v; the exact acceptance test of the
-  /// smoothing. Returns whether v moved.
-  bool move(WV v, const Work_location& at, const Vector_3& z, double& max_move, Smoothing_report& r) {
+  /// Where F(v) is on the target, and the point.
+  void relocate(WV v) {
+    at_[v] = lt_.locate(s_[v]);
+    image_[v] = point_at(t_.mesh->m, at_[v]);
+  }
+
+  /// Moves source vertex v so that its image moves by z (a vector in the plane of the target face that holds
+  /// it), pulled back into a base chart around v; the exact acceptance test of the smoothing. Returns whether
+  /// v moved.
+  bool move(WV v, const Vector_3& z, double& max_move, Smoothing_report& r) {
     const Work_mesh& mt = t_.mesh->m;
     const Base_mesh& B = *s_.base;
-    const WH ht = mt.halfedge(at.face);
+    const WH ht = mt.halfedge(at_[v].face);
     const WV tv[3] = {mt.source(ht), mt.target(ht), mt.target(mt.next(ht))};
     const Vector_3 d1 = mt.point(tv[1]) - mt.point(tv[0]), d2 = mt.point(tv[2]) - mt.point(tv[0]);
     const double g11 = d1 * d1, g12 = d1 * d2, g22 = d2 * d2, det = g11 * g22 - g12 * g12;
@@ -114,7 +120,8 @@ private:
   const Base_locator& lt_;
   const Weights& w_;
   std::vector<int> centers_;
-  std::vector<Point_3> image_; ///< F of every source vertex, kept current as vertices move
+  std::vector<Work_location> at_; ///< where F of every source vertex is on the target, kept current
+  std::vector<Point_3> image_;    ///< and the point
 };
 
 } // namespace internal
