@@ -163,8 +163,10 @@ public:
       const bool straighten = choose_parameter(get_parameter(np_source, internal_np::straighten_paths_t()), false);
       // A map with features `fc` and this map's options (neither protrusion nor extremity features), made on
       // copies of the inputs in the same vertex order, so that feature indices carry over (the copy assumes
-      // the checked, closed manifold meshes); returns use(map). The meshes passed in are not touched.
-      auto on_copies = [&](const Feature_correspondence& fc, unsigned threads, bool with_map_smoothing, const auto& use) {
+      // the checked, closed manifold meshes), with or without map smoothing; returns use(map). The meshes passed
+      // in are not touched.
+      auto on_copies = [&](const Feature_correspondence& fc, unsigned threads, bool with_map_smoothing,
+                           const auto& use) {
         Surface_mesh cs, ct;
         internal::copy_in_order(tm_s, choose_parameter(get_parameter(np_source, CGAL::internal_np::vertex_point),
                                                        get_const_property_map(CGAL::vertex_point, tm_s)), cs);
@@ -173,9 +175,10 @@ public:
         const Cross_parameterization<Surface_mesh, Surface_mesh> m(
             cs, ct, fc,
             internal::inputs_checked(protrusion_features(false, extremity_features(false, smoothing_weights(weights,
-                smoothing_tolerance(so.tolerance, apply_smoothing(smooth, map_smoothing(with_map_smoothing, apply_path_flips(flips, consistent_paths(
-                    consistent, straighten_paths(straighten, number_of_threads(threads, time_limit(budget.remaining(),
-                        best_effort(budget.best_effort(), number_of_iterations(so.max_iterations)))))))))))))));
+                smoothing_tolerance(so.tolerance, apply_smoothing(smooth, map_smoothing(with_map_smoothing,
+                    apply_path_flips(flips, consistent_paths(consistent, straighten_paths(straighten,
+                        number_of_threads(threads, time_limit(budget.remaining(), best_effort(budget.best_effort(),
+                            number_of_iterations(so.max_iterations)))))))))))))));
         return use(m);
       };
       Feature_correspondence tips, ends;
@@ -207,7 +210,8 @@ public:
         // time limit is not a failure of the candidate and ends the whole computation.
         auto candidate = [&](const Feature_correspondence& fc, unsigned threads) -> double {
           try {
-            return on_copies(fc, threads, smooth_map, [&](const auto& m) { return m.max_descriptor_mismatch(features.size()); });
+            return on_copies(fc, threads, smooth_map,
+                             [&](const auto& m) { return m.max_descriptor_mismatch(features.size()); });
           } catch (const Time_limit_error&) {
             throw;
           } catch (const Error&) {
@@ -289,10 +293,11 @@ public:
     say("map: initial parameterization: E_ang " + std::to_string(stats_.distortion_initial.angular));
 
     // §4.2: local smoothing with the weights policy, in rounds of 5 passes; F's angular distortion is measured
-    // after each round and the best state of both parameterizations kept (`start`: the distortion before). The averaging's fixed point is
-    // a harmonic-like map with point constraints at the features, which can be worse than an intermediate state:
-    // stop after `patience` rounds without improvement, when the largest move of a round's last pass is below
-    // the tolerance, or after `max_iterations` passes. `round(passes)` makes the passes and returns that move.
+    // after each round and the best state of both parameterizations kept (`start`: the distortion before). The
+    // averaging's fixed point is a harmonic-like map with point constraints at the features, which can be worse
+    // than an intermediate state: stop after `patience` rounds without improvement, when the largest move of a
+    // round's last pass is below the tolerance, or after `max_iterations` passes. `round(passes)` makes the
+    // passes and returns that move. The map smoothing below runs in the same rounds.
     const auto t3 = clock::now();
     auto in_rounds = [&](const char* what, Smoothing_report& report, unsigned& best_iteration, Distortion start,
                          const auto& round) {
@@ -332,7 +337,8 @@ public:
       wt.prepare(B_.side[1].m);
       internal::Local_smoother<decltype(ws)> smooth_s(P_[0], ws);
       internal::Local_smoother<decltype(wt)> smooth_t(P_[1], wt);
-      in_rounds("smoothing", stats_.smoothing_source, stats_.smoothing_best_iteration, stats_.distortion_initial, [&](unsigned passes) {
+      in_rounds("smoothing", stats_.smoothing_source, stats_.smoothing_best_iteration, stats_.distortion_initial,
+                [&](unsigned passes) {
         // The two meshes' passes are independent (each moves only its own vertices): one thread each.
         internal::parallel_invoke(
             threads_,
