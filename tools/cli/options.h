@@ -60,7 +60,7 @@ inline const char* const usage_text =
     "  --no-smoothing    skip the smoothing of section 4.2 (map)\n"
     "  --map-smoothing   map, remesh, demo: after the smoothing of section 4.2, smooth the map itself\n"
     "                    (the source's vertices move so that their images average their neighbours' on the\n"
-    "                    target; on the wider bench a more accurate map on average, at about 2.4 times the\n"
+    "                    target; on the wider bench a more accurate map on average, at about 2.5 times the\n"
     "                    map's time)\n"
     "  --no-protrusion-features\n"
     "                    use only the given features (map, remesh, demo): no pairs added at the tips of\n"
