@@ -299,8 +299,10 @@ public:
     // round's last pass is below the tolerance, or after `max_iterations` passes. `round(passes)` makes the
     // passes and returns that move. The map smoothing below runs in the same rounds.
     const auto t3 = clock::now();
-    auto in_rounds = [&](const char* what, Smoothing_report& report, unsigned& best_iteration, Distortion start,
-                         const auto& round) {
+    // `target_moves`: whether the passes move the target's parameterization, whose point location the
+    // distortion measurement needs rebuilt after each round (the map smoothing moves the source's alone).
+    auto in_rounds = [&](const char* what, bool target_moves, Smoothing_report& report, unsigned& best_iteration,
+                         Distortion start, const auto& round) {
       std::array<std::vector<Base_location>, 2> best{P_[0].loc, P_[1].loc};
       Distortion best_d = start;
       unsigned bad = 0, done = 0;
@@ -315,7 +317,7 @@ public:
         done += passes;
         report.iterations = done;
         say(std::string("map: ") + what + ": " + std::to_string(done) + " passes");
-        locator_[1].build(P_[1]);
+        if (target_moves) locator_[1].build(P_[1]);
         const Distortion d = measure_distortion();
         if (d.angular < best_d.angular) {
           best_d = d;
@@ -328,8 +330,7 @@ public:
         if (moved < so.tolerance) break;
       }
       P_[0].loc = std::move(best[0]);
-      P_[1].loc = std::move(best[1]);
-      locator_[1].build(P_[1]);
+      P_[1].loc = std::move(best[1]); // locator_[1] is rebuilt by the protrusion alignment, next
     };
     if (smooth) {
       auto ws = weights, wt = weights;
@@ -337,7 +338,7 @@ public:
       wt.prepare(B_.side[1].m);
       internal::Local_smoother<decltype(ws)> smooth_s(P_[0], ws);
       internal::Local_smoother<decltype(wt)> smooth_t(P_[1], wt);
-      in_rounds("smoothing", stats_.smoothing_source, stats_.smoothing_best_iteration, stats_.distortion_initial,
+      in_rounds("smoothing", true, stats_.smoothing_source, stats_.smoothing_best_iteration, stats_.distortion_initial,
                 [&](unsigned passes) {
         // The two meshes' passes are independent (each moves only its own vertices): one thread each.
         internal::parallel_invoke(
@@ -371,11 +372,11 @@ public:
     if (smooth && smooth_map) {
       // The smoothing of F itself (internal/map_smoothing.h): the source's vertices move so that F is
       // harmonic-like from the source onto the target, with the source's smoothing weights.
+      // locator_[1] is current: the protrusion alignment built it and moves the source alone.
       auto ws = weights;
       ws.prepare(B_.side[0].m);
-      locator_[1].build(P_[1]);
       internal::Map_smoother<decltype(ws)> smooth_f(P_[0], P_[1], locator_[1], ws);
-      in_rounds("map smoothing", stats_.smoothing_map, stats_.smoothing_map_best_iteration, measure_distortion(),
+      in_rounds("map smoothing", false, stats_.smoothing_map, stats_.smoothing_map_best_iteration, measure_distortion(),
                 [&](unsigned passes) {
         for (unsigned i = 0; i < passes; ++i) stats_.smoothing_map.last_max_move = smooth_f.pass(stats_.smoothing_map);
         return stats_.smoothing_map.last_max_move;
