@@ -38,12 +38,21 @@ int main(int argc, char** argv) {
     }
     const Cross_parameterization<Surface_mesh, Surface_mesh>& cp = *map;
     const auto& S = cp.statistics();
-    std::printf("| %s | %zu | %zu | %zu + %zu + %zu / %zu | %.0f | %.0f | %.0f | %.0f | %.0f (%u) | %.0f | %.0f | %.3f -> %.3f | %.3f -> %.3f |\n",
+    // An adopted map (the probe's or the selection's winner) was parameterized and smoothed during the probe or
+    // the selection: its own two columns say so, with the passes of the map adopted.
+    char param[32], smoothing[48];
+    if (S.map_adopted) {
+      std::snprintf(param, sizeof param, "adopted");
+      std::snprintf(smoothing, sizeof smoothing, "adopted (%u)", S.smoothing_source.iterations);
+    } else {
+      std::snprintf(param, sizeof param, "%.0f", 1e3 * S.seconds_parameterization);
+      std::snprintf(smoothing, sizeof smoothing, "%.0f (%u)", 1e3 * S.seconds_smoothing, S.smoothing_source.iterations);
+    }
+    std::printf("| %s | %zu | %zu | %zu + %zu + %zu / %zu | %.0f | %.0f | %.0f | %s | %s | %.0f | %.0f | %.3f -> %.3f | %.3f -> %.3f |\n",
                 c.filename().string().c_str(), ns, nt, f.size(), S.protrusion_features, S.extremity_features,
                 S.extremity_candidates, 1e3 * S.seconds_probe, 1e3 * S.seconds_selection, 1e3 * S.layout.seconds_total,
-                1e3 * S.seconds_parameterization, 1e3 * S.seconds_smoothing, S.smoothing_source.iterations,
-                1e3 * S.seconds_certificate, 1e3 * S.seconds_total, S.distortion_initial.angular, S.distortion.angular,
-                S.distortion_initial.l2_stretch, S.distortion.l2_stretch);
+                param, smoothing, 1e3 * S.seconds_certificate, 1e3 * S.seconds_total, S.distortion_initial.angular,
+                S.distortion.angular, S.distortion_initial.l2_stretch, S.distortion.l2_stretch);
   }
   return 0;
 }

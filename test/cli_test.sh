@@ -220,10 +220,13 @@ if [ -s "$work/demo/source.off" ]; then
   expect_code overlay 0 "" -- remesh "$d/source.off" "$d/target.off" --features "$d/features.txt" -o "$work/overlay" --construction overlay --quiet
   grep -q '"used": true' "$work/overlay/report.json" || bad "overlay: not used"
   expect_code construction-usage 2 "construction" -- remesh "$d/source.off" "$d/target.off" --features "$d/features.txt" -o "$work/out" --construction best
-  # Extremity features: the option is accepted and the pairs added are reported (none here: the demo's
-  # features already sit on every extremity).
+  # Extremity features: the option is accepted and the pairs added are reported (all kept: one here).
   expect_code extremity-features 0 "" -- map "$d/source.off" "$d/target.off" --features "$d/features.txt" -o "$work/extremity" --extremity-features --quiet
   grep -q '"extremity_features": \[' "$work/extremity/report.json" || bad "extremity features: not in report.json"
+  grep -q '"map_adopted": false' "$work/extremity/report.json" || bad "extremity features: a map adopted with a pair added"
+  # By default the pair found is not kept (the selection): the final map is the probe's, adopted.
+  expect_code map-adopted 0 "" -- map "$d/source.off" "$d/target.off" --features "$d/features.txt" -o "$work/adopted" --quiet
+  grep -q '"map_adopted": true' "$work/adopted/report.json" || bad "map: the probe's map not adopted"
 fi
 # A real bench case.
 if [ -d "$shared/bench/wolf0_wolf2" ]; then

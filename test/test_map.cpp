@@ -479,6 +479,33 @@ TEST(Map, ExtremityFeatures) {
   EXPECT_EQ(all_kept.features(), ext.features());
   Surface_mesh h = a0, k = b0;
   EXPECT_THROW(Map(h, k, f, cp::extremity_features(true, cp::extremity_persistence(0.0))), crossparam::Input_error);
+
+  // The final map adopts the map made while its features were chosen when it is the same map: the selected
+  // candidate (ext), the probe when nothing is added (none). Adopted, it is bit for bit the map made directly
+  // with the same features (no probe, nothing adopted), with and without the map smoothing.
+  EXPECT_FALSE(plain.statistics().map_adopted); // no probe, no candidate
+  EXPECT_TRUE(ext.statistics().map_adopted);
+  EXPECT_TRUE(none.statistics().map_adopted);
+  EXPECT_EQ(none.statistics().seconds_smoothing, 0.0);
+  EXPECT_GT(none.statistics().smoothing_source.iterations, 0u); // the probe's figures
+  for (Mesh_side side : {Mesh_side::source, Mesh_side::target})
+    EXPECT_EQ(base_locations_differing(plain, none, side), 0u) << "side " << internal::side_index(side);
+  for (const bool smooth_map : {false, true}) {
+    Surface_mesh s1 = a0, t1 = b0, s2 = a0, t2 = b0;
+    const Map chosen(s1, t1, f, cp::protrusion_features(false, cp::map_smoothing(smooth_map)));
+    const Map direct(s2, t2, chosen.features(),
+                     cp::protrusion_features(false, cp::extremity_features(false, cp::map_smoothing(smooth_map))));
+    EXPECT_TRUE(chosen.statistics().map_adopted) << "map smoothing " << smooth_map;
+    EXPECT_FALSE(direct.statistics().map_adopted);
+    expect_map_invariants(chosen, chosen.features());
+    EXPECT_EQ(chosen.statistics().distortion.angular, direct.statistics().distortion.angular);
+    EXPECT_EQ(chosen.statistics().distortion_initial.angular, direct.statistics().distortion_initial.angular);
+    EXPECT_EQ(chosen.statistics().smoothing_source.iterations, direct.statistics().smoothing_source.iterations);
+    EXPECT_EQ(chosen.statistics().smoothing_map.iterations, direct.statistics().smoothing_map.iterations);
+    for (Mesh_side side : {Mesh_side::source, Mesh_side::target})
+      EXPECT_EQ(base_locations_differing(chosen, direct, side), 0u)
+          << "side " << internal::side_index(side) << ", map smoothing " << smooth_map;
+  }
 }
 
 // Protrusion pairs on mirror-symmetric shapes: with features on the plane of symmetry only (nose, head, back,

@@ -17,6 +17,7 @@
 #include <CGAL/Polygon_mesh_processing/locate.h>
 
 #include <chrono>
+#include <cstdint>
 #include <functional>
 #include <numeric>
 #include <set>
@@ -44,6 +45,11 @@ struct Cross_parameterization_statistics {
   /// Per mesh, the largest vertex stretch of its final parameterization over the median one (1 is even; a
   /// squeezed protrusion gives 10^3 and more, and the map is nearly singular there).
   double squeeze_source = 0, squeeze_target = 0;
+  /// The map is one made on copies of the meshes while its features were chosen (the protrusion probe's or
+  /// the selected candidate of the extremity selection: the same features, options and refined meshes), so
+  /// §4.1-4.2 were not run again: their figures above are that map's, their seconds below are 0 and the time
+  /// is in seconds_probe or seconds_selection.
+  bool map_adopted = false;
   double seconds_probe = 0;            ///< the first map that finds the protrusion and extremity features (0 if none was made)
   double seconds_selection = 0;        ///< the two candidate maps of the extremity selection (0 if none was made)
   double seconds_parameterization = 0; ///< §4.1, both meshes
@@ -54,6 +60,17 @@ struct Cross_parameterization_statistics {
 
 namespace internal {
 struct Cross_parameterization_access;
+
+/// A map made on copies of the meshes (the protrusion probe, a candidate of the extremity selection), kept
+/// so that the final map can adopt its smoothed parameterizations when it is the same map.
+struct Made_map {
+  bool made = false;
+  Feature_correspondence features;
+  bool map_smoothing = false;
+  std::array<std::uint64_t, 2> refinement{{0, 0}}; ///< each refined mesh's fingerprint (Layout_mesh::fingerprint)
+  std::array<std::vector<Base_location>, 2> loc;   ///< both parameterizations after the smoothing
+  Cross_parameterization_statistics statistics;
+};
 } // namespace internal
 
 /// \brief The cross-parameterization between a source and a target mesh (paper §3-4), kept for queries.
@@ -155,6 +172,9 @@ public:
                                                 default_extremity_persistence);
     if (!(persistence > 0) || !std::isfinite(persistence))
       throw Input_error("extremity_persistence must be a positive number, not " + std::to_string(persistence));
+    // The maps made on copies while the features are chosen: the probe, the selection's candidates without
+    // and with the extremity pairs. The final map adopts the one that is the same map (see map_adopted).
+    std::array<internal::Made_map, 3> made;
     if (protrusions || extremities) {
       using CGAL::parameters::number_of_iterations;
       using namespace crossparam::parameters;
@@ -189,6 +209,7 @@ public:
         if (extremities) ends = probe.extremity_tips(tips, persistence);
         if (!ends.empty() && select && tips.empty() && !smooth_map)
           probe_mismatch = probe.max_descriptor_mismatch(features.size());
+        made[0] = probe.made_map(false);
         return 0;
       });
       features_.insert(features_.end(), tips.begin(), tips.end());
@@ -208,10 +229,12 @@ public:
         with.insert(with.end(), ends.begin(), ends.end());
         // A candidate that fails (a layout the added pairs make impossible, say) counts as infinitely bad; the
         // time limit is not a failure of the candidate and ends the whole computation.
-        auto candidate = [&](const Feature_correspondence& fc, unsigned threads) -> double {
+        auto candidate = [&](const Feature_correspondence& fc, unsigned threads, internal::Made_map& kept) -> double {
           try {
-            return on_copies(fc, threads, smooth_map,
-                             [&](const auto& m) { return m.max_descriptor_mismatch(features.size()); });
+            return on_copies(fc, threads, smooth_map, [&](const auto& m) {
+              kept = m.made_map(smooth_map);
+              return m.max_descriptor_mismatch(features.size());
+            });
           } catch (const Time_limit_error&) {
             throw;
           } catch (const Error&) {
@@ -222,11 +245,12 @@ public:
         // its figure is taken, and only the map with them is made.
         double without = probe_mismatch, with_ends = 0;
         if (tips.empty() && !smooth_map) {
-          with_ends = candidate(with, threads_requested);
+          with_ends = candidate(with, threads_requested, made[2]);
         } else {
           const unsigned each = threads_ >= 2 ? 1u : threads_;
           internal::parallel_invoke(
-              threads_, [&] { without = candidate(features_, each); }, [&] { with_ends = candidate(with, each); });
+              threads_, [&] { without = candidate(features_, each, made[1]); },
+              [&] { with_ends = candidate(with, each, made[2]); });
         }
         stats_.mismatch_without_extremities = without;
         stats_.mismatch_with_extremities = with_ends;
@@ -253,134 +277,147 @@ public:
     budget.check("the cross-parameterization", [] { return std::string("after the patch layouts"); });
     const auto t1 = clock::now();
 
-    // §4.1: mean-value parameterization of every patch onto its base triangle.
-    bool* fallback[2] = {&stats_.stretch_reweighted_source, &stats_.stretch_reweighted_target};
-    const unsigned max_stretch_rounds = 12;
-    for (int k = 0; k < 2; ++k) {
-      P_[k].base = &base_;
-      P_[k].mesh = &B_.side[k];
-      P_[k].initialize(work_tri[k], B_.path_ends);
-      Bijectivity_certificate c = P_[k].certify();
-      // A long protrusion inside a patch is squeezed exponentially by any convex-combination map, until its
-      // vertices collapse below double precision. Dividing the weights by the local stretch and solving again
-      // (Yoshizawa et al. 2004) spreads it out while the weights stay positive, so the map stays one-to-one.
-      std::vector<double> factor(B_.side[k].m.number_of_vertices(), 1.0);
-      for (unsigned round = 0; !c.valid && round < max_stretch_rounds; ++round) {
-        budget.check("the initial parameterization", [&] {
-          return std::string(k ? "target" : "source") + ", stretch reweighting round " + std::to_string(round + 1) +
-                 " of at most " + std::to_string(max_stretch_rounds);
-        });
-        *fallback[k] = true;
-        std::vector<double> sigma = P_[k].vertex_stretch();
-        double mean = 0;
-        for (double x : sigma) mean += x;
-        mean /= std::max<std::size_t>(1, sigma.size());
-        for (std::size_t i = 0; i < factor.size(); ++i) factor[i] /= std::max(sigma[i] / mean, 1e-3);
-        double fmean = 0;
-        for (double x : factor) fmean += x;
-        fmean /= std::max<std::size_t>(1, factor.size());
-        for (double& x : factor) x /= fmean;
-        P_[k].initialize(work_tri[k], B_.path_ends, &factor);
-        c = P_[k].certify();
-      }
-      if (!c.valid)
-        throw Algorithm_error(std::string(k ? "target" : "source") +
-                              " initial parameterization is not one-to-one: " + c.message);
-    }
-    const auto t2 = clock::now();
-    locator_[1].build(P_[1]);
-    stats_.distortion_initial = measure_distortion();
-    say("map: initial parameterization: E_ang " + std::to_string(stats_.distortion_initial.angular));
-
-    // §4.2: local smoothing with the weights policy, in rounds of 5 passes; F's angular distortion is measured
-    // after each round and the best state of both parameterizations kept (`start`: the distortion before). The
-    // averaging's fixed point is a harmonic-like map with point constraints at the features, which can be worse
-    // than an intermediate state: stop after `patience` rounds without improvement, when the largest move of a
-    // round's last pass is below the tolerance, or after `max_iterations` passes. `round(passes)` makes the
-    // passes and returns that move. The map smoothing below runs in the same rounds.
-    const auto t3 = clock::now();
-    // `target_moves`: whether the passes move the target's parameterization, whose point location the
-    // distortion measurement needs rebuilt after each round (the map smoothing moves the source's alone).
-    auto in_rounds = [&](const char* what, bool target_moves, Smoothing_report& report, unsigned& best_iteration,
-                         Distortion start, const auto& round) {
-      std::array<std::vector<Base_location>, 2> best{P_[0].loc, P_[1].loc};
-      Distortion best_d = start;
-      unsigned bad = 0, done = 0;
-      const unsigned per_round = 5, patience = 2;
-      while (done < so.max_iterations) {
-        if (budget.stop(std::string("the map's ") + what, [&] {
-              return std::to_string(done) + " of at most " + std::to_string(so.max_iterations) + " passes";
-            }))
-          break; // best effort: keep the best state so far
-        const unsigned passes = std::min(per_round, so.max_iterations - done);
-        const double moved = round(passes);
-        done += passes;
-        report.iterations = done;
-        say(std::string("map: ") + what + ": " + std::to_string(done) + " passes");
-        if (target_moves) locator_[1].build(P_[1]);
-        const Distortion d = measure_distortion();
-        if (d.angular < best_d.angular) {
-          best_d = d;
-          best = {P_[0].loc, P_[1].loc};
-          best_iteration = done;
-          bad = 0;
-        } else if (++bad >= patience) {
-          break;
+    // A map made on copies while the features were chosen is this one when it has the same features and
+    // options and its refinements are these meshes' (the steps are deterministic and do not depend on the
+    // number of threads): its smoothed parameterizations are adopted, and §4.1-4.2 are not run again. The
+    // certificates below are computed anew all the same.
+    auto t2 = t1, t3 = t1;
+    stats_.map_adopted = adopt(made, smooth_map);
+    if (stats_.map_adopted) {
+      say("map: the parameterizations of the map made while choosing the features adopted");
+    } else {
+      // §4.1: mean-value parameterization of every patch onto its base triangle.
+      bool* fallback[2] = {&stats_.stretch_reweighted_source, &stats_.stretch_reweighted_target};
+      const unsigned max_stretch_rounds = 12;
+      for (int k = 0; k < 2; ++k) {
+        P_[k].base = &base_;
+        P_[k].mesh = &B_.side[k];
+        P_[k].initialize(work_tri[k], B_.path_ends);
+        Bijectivity_certificate c = P_[k].certify();
+        // A long protrusion inside a patch is squeezed exponentially by any convex-combination map, until its
+        // vertices collapse below double precision. Dividing the weights by the local stretch and solving again
+        // (Yoshizawa et al. 2004) spreads it out while the weights stay positive, so the map stays one-to-one.
+        std::vector<double> factor(B_.side[k].m.number_of_vertices(), 1.0);
+        for (unsigned round = 0; !c.valid && round < max_stretch_rounds; ++round) {
+          budget.check("the initial parameterization", [&] {
+            return std::string(k ? "target" : "source") + ", stretch reweighting round " + std::to_string(round + 1) +
+                   " of at most " + std::to_string(max_stretch_rounds);
+          });
+          *fallback[k] = true;
+          std::vector<double> sigma = P_[k].vertex_stretch();
+          double mean = 0;
+          for (double x : sigma) mean += x;
+          mean /= std::max<std::size_t>(1, sigma.size());
+          for (std::size_t i = 0; i < factor.size(); ++i) factor[i] /= std::max(sigma[i] / mean, 1e-3);
+          double fmean = 0;
+          for (double x : factor) fmean += x;
+          fmean /= std::max<std::size_t>(1, factor.size());
+          for (double& x : factor) x /= fmean;
+          P_[k].initialize(work_tri[k], B_.path_ends, &factor);
+          c = P_[k].certify();
         }
-        if (moved < so.tolerance) break;
+        if (!c.valid)
+          throw Algorithm_error(std::string(k ? "target" : "source") +
+                                " initial parameterization is not one-to-one: " + c.message);
       }
-      P_[0].loc = std::move(best[0]);
-      P_[1].loc = std::move(best[1]); // locator_[1] is rebuilt by the protrusion alignment, next
-    };
-    if (smooth) {
-      auto ws = weights, wt = weights;
-      ws.prepare(B_.side[0].m);
-      wt.prepare(B_.side[1].m);
-      internal::Local_smoother<decltype(ws)> smooth_s(P_[0], ws);
-      internal::Local_smoother<decltype(wt)> smooth_t(P_[1], wt);
-      in_rounds("smoothing", true, stats_.smoothing_source, stats_.smoothing_best_iteration, stats_.distortion_initial,
-                [&](unsigned passes) {
-        // The two meshes' passes are independent (each moves only its own vertices): one thread each.
-        internal::parallel_invoke(
-            threads_,
-            [&] {
-              for (unsigned i = 0; i < passes; ++i)
-                stats_.smoothing_source.last_max_move = smooth_s.pass(stats_.smoothing_source);
-            },
-            [&] {
-              for (unsigned i = 0; i < passes; ++i)
-                stats_.smoothing_target.last_max_move = smooth_t.pass(stats_.smoothing_target);
-            });
-        return std::max(stats_.smoothing_source.last_max_move, stats_.smoothing_target.last_max_move);
-      });
-      stats_.smoothing_target.iterations = stats_.smoothing_source.iterations;
-    }
-    {
-      // Protrusion alignment, kept only if F stays less distorted than the initial map (with meaningless
-      // descriptors, e.g. a wrong correspondence, the warps are unfounded).
+      t2 = clock::now();
       locator_[1].build(P_[1]);
-      std::vector<Base_location> before = P_[0].loc;
-      stats_.protrusion_warps = align_protrusions();
-      if (stats_.protrusion_warps > 0) {
-        const Distortion d = measure_distortion();
-        if (!(d.angular < stats_.distortion_initial.angular && d.l2_stretch < stats_.distortion_initial.l2_stretch)) {
-          P_[0].loc = std::move(before);
-          stats_.protrusion_warps = 0;
+      stats_.distortion_initial = measure_distortion();
+      say("map: initial parameterization: E_ang " + std::to_string(stats_.distortion_initial.angular));
+
+      // §4.2: local smoothing with the weights policy, in rounds of 5 passes; F's angular distortion is measured
+      // after each round and the best state of both parameterizations kept (`start`: the distortion before). The
+      // averaging's fixed point is a harmonic-like map with point constraints at the features, which can be worse
+      // than an intermediate state: stop after `patience` rounds without improvement, when the largest move of a
+      // round's last pass is below the tolerance, or after `max_iterations` passes. `round(passes)` makes the
+      // passes and returns that move. The map smoothing below runs in the same rounds.
+      t3 = clock::now();
+      // `target_moves`: whether the passes move the target's parameterization, whose point location the
+      // distortion measurement needs rebuilt after each round (the map smoothing moves the source's alone).
+      auto in_rounds = [&](const char* what, bool target_moves, Smoothing_report& report, unsigned& best_iteration,
+                           Distortion start, const auto& round) {
+        std::array<std::vector<Base_location>, 2> best{P_[0].loc, P_[1].loc};
+        Distortion best_d = start;
+        unsigned bad = 0, done = 0;
+        const unsigned per_round = 5, patience = 2;
+        while (done < so.max_iterations) {
+          if (budget.stop(std::string("the map's ") + what, [&] {
+                return std::to_string(done) + " of at most " + std::to_string(so.max_iterations) + " passes";
+              }))
+            break; // best effort: keep the best state so far
+          const unsigned passes = std::min(per_round, so.max_iterations - done);
+          const double moved = round(passes);
+          done += passes;
+          report.iterations = done;
+          say(std::string("map: ") + what + ": " + std::to_string(done) + " passes");
+          if (target_moves) locator_[1].build(P_[1]);
+          const Distortion d = measure_distortion();
+          if (d.angular < best_d.angular) {
+            best_d = d;
+            best = {P_[0].loc, P_[1].loc};
+            best_iteration = done;
+            bad = 0;
+          } else if (++bad >= patience) {
+            break;
+          }
+          if (moved < so.tolerance) break;
+        }
+        P_[0].loc = std::move(best[0]);
+        P_[1].loc = std::move(best[1]); // locator_[1] is rebuilt by the protrusion alignment, next
+      };
+      if (smooth) {
+        auto ws = weights, wt = weights;
+        ws.prepare(B_.side[0].m);
+        wt.prepare(B_.side[1].m);
+        internal::Local_smoother<decltype(ws)> smooth_s(P_[0], ws);
+        internal::Local_smoother<decltype(wt)> smooth_t(P_[1], wt);
+        in_rounds("smoothing", true, stats_.smoothing_source, stats_.smoothing_best_iteration,
+                  stats_.distortion_initial,
+                  [&](unsigned passes) {
+          // The two meshes' passes are independent (each moves only its own vertices): one thread each.
+          internal::parallel_invoke(
+              threads_,
+              [&] {
+                for (unsigned i = 0; i < passes; ++i)
+                  stats_.smoothing_source.last_max_move = smooth_s.pass(stats_.smoothing_source);
+              },
+              [&] {
+                for (unsigned i = 0; i < passes; ++i)
+                  stats_.smoothing_target.last_max_move = smooth_t.pass(stats_.smoothing_target);
+              });
+          return std::max(stats_.smoothing_source.last_max_move, stats_.smoothing_target.last_max_move);
+        });
+        stats_.smoothing_target.iterations = stats_.smoothing_source.iterations;
+      }
+      {
+        // Protrusion alignment, kept only if F stays less distorted than the initial map (with meaningless
+        // descriptors, e.g. a wrong correspondence, the warps are unfounded).
+        locator_[1].build(P_[1]);
+        std::vector<Base_location> before = P_[0].loc;
+        stats_.protrusion_warps = align_protrusions();
+        if (stats_.protrusion_warps > 0) {
+          const Distortion d = measure_distortion();
+          if (!(d.angular < stats_.distortion_initial.angular && d.l2_stretch < stats_.distortion_initial.l2_stretch)) {
+            P_[0].loc = std::move(before);
+            stats_.protrusion_warps = 0;
+          }
         }
       }
-    }
-    if (smooth && smooth_map) {
-      // The smoothing of F itself (internal/map_smoothing.h): the source's vertices move so that F is
-      // harmonic-like from the source onto the target, with the source's smoothing weights.
-      // locator_[1] is current: the protrusion alignment built it and moves the source alone.
-      auto ws = weights;
-      ws.prepare(B_.side[0].m);
-      internal::Map_smoother<decltype(ws)> smooth_f(P_[0], P_[1], locator_[1], ws);
-      in_rounds("map smoothing", false, stats_.smoothing_map, stats_.smoothing_map_best_iteration, measure_distortion(),
-                [&](unsigned passes) {
-        for (unsigned i = 0; i < passes; ++i) stats_.smoothing_map.last_max_move = smooth_f.pass(stats_.smoothing_map);
-        return stats_.smoothing_map.last_max_move;
-      });
+      if (smooth && smooth_map) {
+        // The smoothing of F itself (internal/map_smoothing.h): the source's vertices move so that F is
+        // harmonic-like from the source onto the target, with the source's smoothing weights.
+        // locator_[1] is current: the protrusion alignment built it and moves the source alone.
+        auto ws = weights;
+        ws.prepare(B_.side[0].m);
+        internal::Map_smoother<decltype(ws)> smooth_f(P_[0], P_[1], locator_[1], ws);
+        in_rounds("map smoothing", false, stats_.smoothing_map, stats_.smoothing_map_best_iteration,
+                  measure_distortion(),
+                  [&](unsigned passes) {
+          for (unsigned i = 0; i < passes; ++i)
+            stats_.smoothing_map.last_max_move = smooth_f.pass(stats_.smoothing_map);
+          return stats_.smoothing_map.last_max_move;
+        });
+      }
     }
     const auto t4 = clock::now();
     (void)budget.stop("the cross-parameterization", [] { return std::string("before the certificates"); });
@@ -397,8 +434,8 @@ public:
     stats_.squeeze_source = squeeze(P_[0]);
     stats_.squeeze_target = squeeze(P_[1]);
     check_features(features_);
-    stats_.seconds_parameterization = sec(t1, t2);
-    stats_.seconds_smoothing = sec(t3, t4);
+    stats_.seconds_parameterization = stats_.map_adopted ? 0 : sec(t1, t2);
+    stats_.seconds_smoothing = stats_.map_adopted ? 0 : sec(t3, t4);
     stats_.seconds_certificate = sec(t4, t5);
     stats_.seconds_total = sec(t0, clock::now());
   }
@@ -745,6 +782,50 @@ public:
 
 private:
   friend struct internal::Cross_parameterization_access;
+  template <class, class> friend class Cross_parameterization; // the probe's and the candidates' made_map
+
+  /// This map's features, options and smoothed parameterizations, for a map that may turn out to be the same.
+  internal::Made_map made_map(bool with_map_smoothing) const {
+    internal::Made_map m;
+    m.made = true;
+    m.features = features_;
+    m.map_smoothing = with_map_smoothing;
+    for (int k = 0; k < 2; ++k) {
+      m.refinement[std::size_t(k)] = B_.side[k].fingerprint();
+      m.loc[std::size_t(k)] = P_[k].loc;
+    }
+    m.statistics = stats_;
+    return m;
+  }
+
+  /// Adopts the smoothed parameterizations and their figures of the map in `made` that is this map (the same
+  /// features, map smoothing and refined meshes); false if there is none. The layouts and the base domain are
+  /// this map's already.
+  bool adopt(std::array<internal::Made_map, 3>& made, bool with_map_smoothing) {
+    const std::array<std::uint64_t, 2> refinement{{B_.side[0].fingerprint(), B_.side[1].fingerprint()}};
+    for (internal::Made_map& m : made) {
+      if (!m.made || m.map_smoothing != with_map_smoothing || m.features != features_ || m.refinement != refinement)
+        continue;
+      for (int k = 0; k < 2; ++k) {
+        P_[k].base = &base_;
+        P_[k].mesh = &B_.side[k];
+        P_[k].loc = std::move(m.loc[std::size_t(k)]);
+      }
+      const Cross_parameterization_statistics& S = m.statistics;
+      stats_.smoothing_source = S.smoothing_source;
+      stats_.smoothing_target = S.smoothing_target;
+      stats_.smoothing_best_iteration = S.smoothing_best_iteration;
+      stats_.smoothing_map = S.smoothing_map;
+      stats_.smoothing_map_best_iteration = S.smoothing_map_best_iteration;
+      stats_.protrusion_warps = S.protrusion_warps;
+      stats_.distortion_initial = S.distortion_initial;
+      stats_.stretch_reweighted_source = S.stretch_reweighted_source;
+      stats_.stretch_reweighted_target = S.stretch_reweighted_target;
+      m.made = false;
+      return true;
+    }
+    return false;
+  }
 
   /// Per mesh, per anchor, per working vertex: the graph-geodesic distance to the anchor over sqrt(area).
   using Anchor_distances = std::array<std::vector<std::vector<double>>, 2>;

@@ -273,6 +273,8 @@ inline void write_protrusion_pairs(Json_writer& j, const Map& cp) {
   j.key("extremity_selection").begin_object().member("candidates", S.extremity_candidates);
   j.member("kept", S.extremity_features).member("worst_mismatch_without", S.mismatch_without_extremities);
   j.member("worst_mismatch_with", S.mismatch_with_extremities).member("seconds", S.seconds_selection).end_object();
+  // Whether the final map is the probe's or the selected candidate's (its smoothing was not run again).
+  j.member("map_adopted", S.map_adopted);
 }
 
 /// Writes the outputs of `map` (and the demo's map): the vertex maps both ways, the checkerboard and

@@ -138,6 +138,27 @@ public:
     return p;
   }
 
+  /// A fingerprint of the refined mesh: FNV-1a over its vertices' coordinates (their bits) and its faces'
+  /// corners, in storage order. Two refinements made by the same steps from the same input are equal.
+  std::uint64_t fingerprint() const {
+    std::uint64_t h = 14695981039346656037ull;
+    auto mix = [&h](const void* data, std::size_t bytes) {
+      const unsigned char* c = static_cast<const unsigned char*>(data);
+      for (std::size_t i = 0; i < bytes; ++i) h = (h ^ c[i]) * 1099511628211ull;
+    };
+    for (WV v : m.vertices()) {
+      const double xyz[3] = {m.point(v).x(), m.point(v).y(), m.point(v).z()};
+      mix(xyz, sizeof xyz);
+    }
+    for (WF f : m.faces()) {
+      const WH e = m.halfedge(f);
+      const std::uint32_t c[3] = {std::uint32_t(m.source(e)), std::uint32_t(m.target(e)),
+                                  std::uint32_t(m.target(m.next(e)))};
+      mix(c, sizeof c);
+    }
+    return h;
+  }
+
   /// Total surface area (working coordinates).
   double area() const {
     double a = 0;
