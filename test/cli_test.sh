@@ -110,6 +110,7 @@ if "$cli" demo -o "$work/demo" --quiet; then
   # Same face lists.
   ns=$(sed -n 2p "$work/demo/source_compatible.off" | awk '{print $1}')
   grep -q '"verification": {"valid": true' "$work/demo/report.json" || bad "demo: the remeshing is not verified valid"
+  grep -q '"where": {"farthest_target_vertex": {"index": ' "$work/demo/report.json" || bad "demo: the verification's places missing"
   cmp -s <(tail -n +$((ns + 3)) "$work/demo/source_compatible.off") <(tail -n +$((ns + 3)) "$work/demo/target_compatible.off") ||
     bad "remesh: the two outputs have different faces"
   ok

@@ -470,6 +470,10 @@ TEST(Verifier, FlipsAtTheTargetsOwnFolds) {
   EXPECT_GT(tight.new_flipped_faces(), 0u);
   EXPECT_FALSE(tight.valid);
   EXPECT_NE(tight.message.find("away from the target's own folds"), std::string::npos) << tight.message;
+  ASSERT_TRUE(tight.new_flipped_face.found);
+  EXPECT_LT(tight.new_flipped_face.index, out.number_of_faces());
+  EXPECT_NE(tight.message.find("flipped face " + std::to_string(tight.new_flipped_face.index) + " at ("), std::string::npos)
+      << tight.message;
   // A tolerance wider than the disc: every flip lies within it of the rim, the surfaces are 0.6 thickness apart.
   const Remeshing_verification wide = verify_compatible_remeshing(out, target, out, out, 80.0);
   EXPECT_EQ(wide.flipped_faces, tight.flipped_faces);
@@ -478,6 +482,42 @@ TEST(Verifier, FlipsAtTheTargetsOwnFolds) {
   EXPECT_TRUE(wide.valid) << wide.message;
   // The target against itself: nothing flipped.
   EXPECT_EQ(verify_compatible_remeshing(target, target, target, target, 0.5).flipped_faces, 0u);
+}
+
+// The verifier says where: an output that is the target with one vertex pushed out by 5 % of the diagonal is
+// invalid at 0.5 %, and the output vertex farthest from the target is that one, at its place and distance, at
+// any scale (1e-150: the check runs on a copy scaled by a power of two, the places are given back unscaled).
+TEST(Verifier, SaysWhere) {
+  const Surface_mesh target = shapes::make_deformed_sphere(7, 600, true);
+  const double diagonal = internal::bbox_diagonal(target);
+  Surface_mesh out = target;
+  const Surface_mesh::Vertex_index moved(Surface_mesh::size_type(123));
+  const Kernel::Vector_3 outward = out.point(moved) - CGAL::ORIGIN; // the sphere is centred at the origin
+  out.point(moved) = out.point(moved) + outward * (0.05 * diagonal / std::sqrt(outward.squared_length()));
+  for (const double scale : {1.0, 1e-150}) {
+    Surface_mesh t = target, o = out;
+    for (Surface_mesh* m : {&t, &o})
+      for (auto v : m->vertices()) m->point(v) = Point_3(m->point(v).x() * scale, m->point(v).y() * scale, m->point(v).z() * scale);
+    const Remeshing_verification r = verify_compatible_remeshing(t, t, t, o, 0.5);
+    EXPECT_FALSE(r.valid);
+    ASSERT_TRUE(r.farthest_output_vertex.found);
+    EXPECT_EQ(r.farthest_output_vertex.index, 123u) << r.message;
+    EXPECT_NEAR(r.farthest_output_vertex.distance, r.hausdorff_to_target, 0.05) << "the vertex is the farthest point";
+    EXPECT_GT(r.farthest_output_vertex.distance, 1.0);
+    for (int i = 0; i < 3; ++i)
+      EXPECT_NEAR(r.farthest_output_vertex.point[std::size_t(i)], o.point(moved)[i], 1e-9 * scale * diagonal);
+    ASSERT_TRUE(r.farthest_target_vertex.found);
+    EXPECT_LE(r.farthest_target_vertex.distance, r.hausdorff_from_target + 1e-9);
+    EXPECT_EQ(r.new_self_intersection.found, r.new_self_intersections > 0);
+    EXPECT_NE(r.message.find("output vertex 123 at ("), std::string::npos) << r.message;
+    // Valid: the places are still measured, and the message is empty.
+    const Remeshing_verification same = verify_compatible_remeshing(t, t, t, t, 0.5);
+    EXPECT_TRUE(same.valid) << same.message;
+    EXPECT_TRUE(same.message.empty());
+    EXPECT_TRUE(same.farthest_output_vertex.found);
+    EXPECT_EQ(same.farthest_output_vertex.distance, 0.0);
+    EXPECT_FALSE(same.new_flipped_face.found);
+  }
 }
 
 // The bench cases of ../shared: outputs compatible, the source side exact, the remeshed parameterization

@@ -125,6 +125,10 @@ struct Remeshing_statistics {
   bool overlay_used = false;                  ///< whether the result is the decimated overlay
   std::size_t overlay_vertices = 0;           ///< vertices of the overlay before its decimation (0: not built)
   std::size_t overlay_refused = 0;            ///< inserts and splits of the overlay refused by their exact test
+  /// Where they are: points of the target, in its input coordinates. A refused insert leaves that target
+  /// vertex or edge out of the overlay, so the output can miss the target there: the map compresses that part
+  /// of the target into a piece of the source too small for the exact tests in double precision.
+  std::vector<std::array<double, 3>> overlay_refused_points;
   std::size_t overlay_flips = 0;              ///< edge flips of the overlay: to insert target edges, then Lawson's
   bool overlay_complete = false;              ///< whether every target vertex and edge is in the overlay
   std::size_t overlay_collapses = 0;          ///< vertices the decimation removed
@@ -420,6 +424,8 @@ private:
     const internal::Overlay_result made = internal::Target_overlay(o).run(std::size_t(-1));
     stats_.overlay_vertices = o.mesh.m.number_of_vertices();
     stats_.overlay_refused = made.refused;
+    stats_.overlay_refused_points.clear();
+    for (const Point_3& p : made.refused_at) stats_.overlay_refused_points.push_back(o.target.input_point(p));
     stats_.overlay_flips = made.flips + made.delaunay_flips;
     stats_.overlay_complete = made.complete;
     say("remesh: overlay: " + std::to_string(made.made.size()) + " vertices added (" + std::to_string(made.refused) +

@@ -19,7 +19,11 @@
 #include <CGAL/Polygon_mesh_processing/locate.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdio>
+#include <iterator>
 #include <map>
 #include <string>
 #include <vector>
@@ -37,6 +41,14 @@ namespace crossparam {
 /// - a **self-intersection** is a pair of faces that intersect other than in their shared vertex or edge, as
 ///   CGAL's `self_intersections` reports them (a degenerate face counts as a pair with itself).
 struct Remeshing_verification {
+  /// A place on the meshes, to look at: an element's index (in `vertices()` or `faces()` order), a point (in the
+  /// meshes' own coordinates) and, for a distance, its value in percent of the target's bounding-box diagonal.
+  struct Spot {
+    bool found = false;
+    std::size_t index = 0;
+    std::array<double, 3> point{{0, 0, 0}};
+    double distance = 0;
+  };
   bool compatible = false;          ///< same vertex count and the same face list
   double hausdorff_target = 0;      ///< two-sided Hausdorff distance, target-shaped output vs target
   double hausdorff_to_target = 0;   ///< one-sided parts of it: from the output to the target
@@ -60,7 +72,19 @@ struct Remeshing_verification {
                                              ///< target on a crease or in a self-intersecting pair
   bool valid = false; ///< compatible, both distances within bounds, no flipped face away from the target's own
                       ///< folds, no new self-intersection
-  std::string message; ///< empty when valid
+  std::string message; ///< empty when valid; otherwise the figures above, and where the failures are (below)
+
+  /// Where to look. The target's vertex farthest from the target-shaped output and the output's vertex farthest
+  /// from the target: the vertex samples of the two one-sided distances (the distances above are over the whole
+  /// surfaces, so these are at most those); a flipped face away from the target's folds (its centroid) and a
+  /// face of a new self-intersecting pair (its centroid), the first of each in `faces()` order. `found` is false
+  /// where there is none.
+  Spot farthest_target_vertex, farthest_output_vertex, new_flipped_face, new_self_intersection;
+  double tolerance = 0; ///< the tolerance checked, in percent of the target's diagonal
+
+  /// The places' points multiplied by 2^exponent (exact), and the message remade with them: for meshes that were
+  /// checked at another scale than the user's.
+  void scale_places_by_power_of_two(int exponent);
 
   /// Flipped faces away from the target's own folds: the flips the input does not have.
   std::size_t new_flipped_faces() const { return flipped_faces - flipped_at_target_folds; }
@@ -161,7 +185,52 @@ inline bool meets_grown(CGAL::Bbox_3 b, double g, const std::vector<CGAL::Bbox_3
   return false;
 }
 
+/// A Remeshing_verification::Spot at element `index`, point `p`, distance `d`.
+template <class Point>
+Remeshing_verification::Spot spot(std::size_t index, const Point& p, double d) {
+  Remeshing_verification::Spot s;
+  s.found = true;
+  s.index = index;
+  s.point = {{CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())}};
+  s.distance = d;
+  return s;
+}
+
+/// The message of a verification: empty when valid; otherwise its figures, then where the tolerance is missed
+/// (the farthest vertices, when beyond it), a new flipped face and a new self-intersection are.
+inline std::string verification_message(const Remeshing_verification& r, double tolerance) {
+  if (r.valid) return {};
+  std::string m = std::string(r.compatible ? "" : "outputs are not compatible; ") + "target Hausdorff " +
+                  std::to_string(r.hausdorff_target) + "% (" + std::to_string(r.hausdorff_to_target) + "% to it, " +
+                  std::to_string(r.hausdorff_from_target) + "% from it; tolerance " + std::to_string(tolerance) +
+                  "%), source " + std::to_string(r.hausdorff_source) + "%, " + std::to_string(r.new_flipped_faces()) +
+                  " flipped faces away from the target's own folds (" + std::to_string(r.flipped_faces) + " in all), " +
+                  std::to_string(r.new_self_intersections) + " new self-intersecting face pairs";
+  auto at = [](const Remeshing_verification::Spot& s) {
+    char b[96];
+    std::snprintf(b, sizeof b, " at (%.6g, %.6g, %.6g)", s.point[0], s.point[1], s.point[2]);
+    return std::string(b);
+  };
+  if (r.farthest_target_vertex.found && r.farthest_target_vertex.distance > tolerance)
+    m += "; target vertex " + std::to_string(r.farthest_target_vertex.index) + at(r.farthest_target_vertex) + " is " +
+         std::to_string(r.farthest_target_vertex.distance) + "% from the output";
+  if (r.farthest_output_vertex.found && r.farthest_output_vertex.distance > tolerance)
+    m += "; output vertex " + std::to_string(r.farthest_output_vertex.index) + at(r.farthest_output_vertex) + " is " +
+         std::to_string(r.farthest_output_vertex.distance) + "% from the target";
+  if (r.new_flipped_face.found)
+    m += "; flipped face " + std::to_string(r.new_flipped_face.index) + at(r.new_flipped_face);
+  if (r.new_self_intersection.found)
+    m += "; new self-intersection at face " + std::to_string(r.new_self_intersection.index) + at(r.new_self_intersection);
+  return m;
+}
+
 } // namespace internal
+
+inline void Remeshing_verification::scale_places_by_power_of_two(int exponent) {
+  for (Spot* spot : {&farthest_target_vertex, &farthest_output_vertex, &new_flipped_face, &new_self_intersection})
+    for (double& x : spot->point) x = std::ldexp(x, exponent);
+  message = internal::verification_message(*this, tolerance);
+}
 
 /// Whether two meshes have the same number of vertices and the same faces (as vertex index triples, in order).
 template <class MeshA, class MeshB>
@@ -185,9 +254,12 @@ Remeshing_verification verify_compatible_remeshing(const Mesh& src, const Mesh& 
   if (const int k = unit_scale_exponent<Mesh>({&src, &tgt, &out_source, &out_target}); k != 0) {
     Mesh s = src, t = tgt, os = out_source, ot = out_target;
     for (Mesh* m : {&s, &t, &os, &ot}) scale_by_power_of_two(*m, k);
-    return verify_compatible_remeshing(s, t, os, ot, tolerance, source_bound);
+    Remeshing_verification r = verify_compatible_remeshing(s, t, os, ot, tolerance, source_bound);
+    r.scale_places_by_power_of_two(-k); // the places in the meshes' own coordinates
+    return r;
   }
   Remeshing_verification r;
+  r.tolerance = tolerance;
   r.compatible = are_compatible(out_source, out_target);
   const double dt = internal::bbox_diagonal(tgt), ds = internal::bbox_diagonal(src);
   const double bound = 0.01 * tolerance / 100 * dt;
@@ -216,7 +288,9 @@ Remeshing_verification verify_compatible_remeshing(const Mesh& src, const Mesh& 
   const std::vector<CGAL::Bbox_3> target_folds = internal::fold_face_boxes(tgt, pairs_in);
   const double grow = tolerance / 100 * dt;
   double area = 0, weighted = 0, above = 0;
+  std::size_t face_counter = 0;
   for (auto f : faces(out_target)) {
+    const std::size_t fi = face_counter++;
     auto h = halfedge(f, out_target);
     const auto a = get(CGAL::vertex_point, out_target, source(h, out_target));
     const auto b = get(CGAL::vertex_point, out_target, target(h, out_target));
@@ -230,7 +304,10 @@ Remeshing_verification verify_compatible_remeshing(const Mesh& src, const Mesh& 
     const double angle = std::acos(std::max(-1.0, std::min(1.0, (n * nt) / (ln * lt)))) * 180 / CGAL_PI;
     if (n * nt < 0) {
       ++r.flipped_faces;
-      r.flipped_at_target_folds += internal::meets_grown(nearest.first.bbox(), grow, target_folds);
+      const bool at_fold = internal::meets_grown(nearest.first.bbox(), grow, target_folds);
+      r.flipped_at_target_folds += at_fold;
+      if (!at_fold && !r.new_flipped_face.found)
+        r.new_flipped_face = internal::spot(fi, CGAL::centroid(a, b, c), 0);
     }
     r.faces_above_30 += angle > 30;
     area += ln, weighted += ln * angle, above += angle > 30 ? ln : 0;
@@ -244,19 +321,42 @@ Remeshing_verification verify_compatible_remeshing(const Mesh& src, const Mesh& 
   const auto pairs_out = internal::self_intersecting_pairs(out_target);
   r.self_intersections_output = pairs_out.size();
   r.self_intersections_target = pairs_in.size();
-  for (const auto& p : pairs_out)
-    r.new_self_intersections +=
-        !internal::meets_grown(internal::face_bbox(out_target, p.first) + internal::face_bbox(out_target, p.second), grow, target_folds);
+  for (const auto& p : pairs_out) {
+    const bool is_new = !internal::meets_grown(
+        internal::face_bbox(out_target, p.first) + internal::face_bbox(out_target, p.second), grow, target_folds);
+    r.new_self_intersections += is_new;
+    if (is_new && !r.new_self_intersection.found) {
+      const auto g = halfedge(p.first, out_target);
+      r.new_self_intersection = internal::spot(
+          std::size_t(std::distance(faces(out_target).first, std::find(faces(out_target).first, faces(out_target).second, p.first))),
+          CGAL::centroid(get(CGAL::vertex_point, out_target, source(g, out_target)),
+                         get(CGAL::vertex_point, out_target, target(g, out_target)),
+                         get(CGAL::vertex_point, out_target, target(next(g, out_target), out_target))),
+          0);
+    }
+  }
+  // The vertex samples of the two one-sided distances: where the output is farthest from the target and the
+  // target from the output.
+  {
+    Tree out_tree(faces(out_target).first, faces(out_target).second, out_target);
+    out_tree.accelerate_distance_queries();
+    auto farthest = [dt](const Mesh& from, const Tree& to) {
+      Remeshing_verification::Spot s;
+      std::size_t i = 0;
+      for (auto v : vertices(from)) {
+        const auto p = get(CGAL::vertex_point, from, v);
+        const double d = 100 * std::sqrt(CGAL::to_double(to.squared_distance(p))) / dt;
+        if (!s.found || d > s.distance) s = internal::spot(i, p, d);
+        ++i;
+      }
+      return s;
+    };
+    r.farthest_target_vertex = farthest(tgt, out_tree);
+    r.farthest_output_vertex = farthest(out_target, tree);
+  }
   r.valid = r.compatible && r.hausdorff_target <= tolerance && r.hausdorff_source <= source_bound &&
             r.new_flipped_faces() == 0 && r.new_self_intersections == 0;
-  if (!r.valid) {
-    r.message = std::string(r.compatible ? "" : "outputs are not compatible; ") + "target Hausdorff " +
-                std::to_string(r.hausdorff_target) + "% (" + std::to_string(r.hausdorff_to_target) + "% to it, " +
-                std::to_string(r.hausdorff_from_target) + "% from it; tolerance " + std::to_string(tolerance) + "%), source " +
-                std::to_string(r.hausdorff_source) + "%, " + std::to_string(r.new_flipped_faces()) +
-                " flipped faces away from the target's own folds (" + std::to_string(r.flipped_faces) + " in all), " +
-                std::to_string(r.new_self_intersections) + " new self-intersecting face pairs";
-  }
+  r.message = internal::verification_message(r, tolerance);
   return r;
 }
 

@@ -277,6 +277,23 @@ inline void write_protrusion_pairs(Json_writer& j, const Map& cp) {
   j.member("map_adopted", S.map_adopted);
 }
 
+/// The places a verification names (Remeshing_verification::Spot), as the object "where" with those found:
+/// index, point (in the user's units) and distance in percent of the target's diagonal.
+inline void write_verification_spots(Json_writer& j, const Remeshing_verification& c) {
+  j.key("where").begin_object();
+  auto spot = [&j](const char* key, const Remeshing_verification::Spot& s) {
+    if (!s.found) return;
+    j.key(key).begin_object().member("index", s.index);
+    j.key("point").begin_array().value(s.point[0]).value(s.point[1]).value(s.point[2]).end_array();
+    j.member("distance_percent", s.distance).end_object();
+  };
+  spot("farthest_target_vertex", c.farthest_target_vertex);
+  spot("farthest_output_vertex", c.farthest_output_vertex);
+  spot("new_flipped_face", c.new_flipped_face);
+  spot("new_self_intersection", c.new_self_intersection);
+  j.end_object();
+}
+
 /// Writes the outputs of `map` (and the demo's map): the vertex maps both ways, the checkerboard and
 /// report.json. `read_s` is the time to read (or generate) the inputs.
 inline void write_map(const Options& o, const Map& cp, double read_s) {
@@ -387,7 +404,18 @@ inline Remeshing_verification write_remesh(const Options& o, const Map& cp, cons
   Surface_mesh out_source, out_target;
   r.copy_to(Mesh_side::source, out_source);
   r.copy_to(Mesh_side::target, out_target);
-  const Remeshing_verification check = verify_compatible_remeshing(source0, target0, out_source, out_target, o.tolerance);
+  Remeshing_verification check = verify_compatible_remeshing(source0, target0, out_source, out_target, o.tolerance);
+  check.scale_places_by_power_of_two(-o.units_exponent); // the places it names, in the user's units
+  const Remeshing_statistics& S = r.statistics();
+  // What the remesher could not make, and where: target points the overlay could not insert.
+  if (!check.valid && S.overlay_used && !S.overlay_refused_points.empty()) {
+    const auto& q = S.overlay_refused_points.front();
+    const Point_3 p = in_user_units(o, Point_3(q[0], q[1], q[2]));
+    check.message += "; the overlay could not insert " + std::to_string(S.overlay_refused_points.size()) +
+                     " target points (the map compresses that part of the target into a piece of the source too "
+                     "small for its exact tests in double precision), the first at (" + format_number(p.x()) + ", " +
+                     format_number(p.y()) + ", " + format_number(p.z()) + ") on the target";
+  }
   const double verify_s = tv.seconds();
   fs::create_directories(write_folder(o));
   const std::vector<std::array<double, 3>> source_points = in_user_units(o, r.source_points());
@@ -398,7 +426,6 @@ inline Remeshing_verification write_remesh(const Options& o, const Map& cp, cons
   for (double e : r.vertex_error()) colors.push_back(error_color(e, o.tolerance));
   write_ply_vertex_colored(output_path(o, "target_error.ply"), target_points, r.faces(), colors);
   if (o.png) render_png(Render_mesh{target_points, r.faces(), {}, colors}, output_path(o, "target_error.png"), o.render);
-  const Remeshing_statistics& S = r.statistics();
   const Cross_parameterization_statistics& C = cp.statistics();
   const double added = 100.0 * (double(S.output_vertices) - double(S.source_vertices)) / double(S.source_vertices);
   write_report(o, [&](Json_writer& j) {
@@ -423,7 +450,12 @@ inline Remeshing_verification write_remesh(const Options& o, const Map& cp, cons
     j.member("vertices_added", S.strict_splits).member("disks", S.strict_disks);
     j.member("passes", S.strict_rounds).member("work_bound_reached", S.strict_work_bound_reached).end_object();
     j.key("overlay").begin_object().member("used", S.overlay_used).member("vertices", S.overlay_vertices);
-    j.member("refused", S.overlay_refused).member("flips", S.overlay_flips).member("complete", S.overlay_complete).member("collapses", S.overlay_collapses);
+    j.member("refused", S.overlay_refused);
+    j.key("refused_points").begin_array();
+    for (const auto& q : in_user_units(o, S.overlay_refused_points))
+      j.begin_array().value(q[0]).value(q[1]).value(q[2]).end_array();
+    j.end_array();
+    j.member("flips", S.overlay_flips).member("complete", S.overlay_complete).member("collapses", S.overlay_collapses);
     j.member("work_bound_reached", S.overlay_work_bound_reached);
     j.member("needles_removed", S.overlay_needles_removed).member("needles_left", S.overlay_needles_left)
         .member("zippers_flipped", S.overlay_zippers_flipped).member("zippers_folding", S.overlay_zippers_folding);
@@ -447,6 +479,7 @@ inline Remeshing_verification write_remesh(const Options& o, const Map& cp, cons
     j.member("self_intersections_output", check.self_intersections_output);
     j.member("self_intersections_target", check.self_intersections_target);
     j.member("new_self_intersections", check.new_self_intersections);
+    write_verification_spots(j, check);
     j.member("seconds", verify_s).end_object();
     j.key("iterations").begin_object().member("smoothing_rounds", S.smoothing_rounds).member("refinement_rounds", S.refinement_rounds).end_object();
     j.key("seconds").begin_object().member("read", read_s).member("protrusion_probe", C.seconds_probe);

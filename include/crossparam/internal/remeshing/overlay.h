@@ -123,6 +123,7 @@ inline Overlay_crossing overlay_crossing(const Point_2& a, const Point_2& z, con
 struct Overlay_result {
   std::vector<WV> made;     ///< vertices it added
   std::size_t refused = 0;  ///< inserts and splits refused by the exact orientation test
+  std::vector<Point_3> refused_at; ///< where on the target each of those is (working coordinates)
   std::size_t flips = 0;    ///< edges of M_s flipped to make target edges edges of M_s
   std::size_t delaunay_flips = 0; ///< edges flipped afterwards to fatten the faces (Target_overlay::delaunay())
   bool complete = false;    ///< whether every target vertex and edge was found and inserted
@@ -250,6 +251,7 @@ public:
           }
         } else {
           ++r.refused;
+          r.refused_at.push_back(s.corner_at(s.param.between(x.u, x.v, x.t)).pos);
         }
       }
       // The edges of M_s between two of the chain's vertices lie along the target edge: none is flipped
@@ -292,14 +294,19 @@ private:
       small = 0;
       for (int k = 0; k < 3; ++k)
         if (b[k] == 0) zero = k, ++small;
-      if (small >= 2) return ++r.refused, nearest; // at the corner exactly, but not there on the target
+      if (small >= 2) return refuse(r, tv), nearest; // at the corner exactly, but not there on the target
     }
     if (small >= 2) return nearest;
     const std::size_t n0 = m.number_of_vertices();
     const bool done = small == 0 ? s.insert(f, b) : s.split(fv[(zero + 1) % 3], fv[(zero + 2) % 3], b[(zero + 2) % 3]);
-    if (!done) return ++r.refused, nearest;
+    if (!done) return refuse(r, tv), nearest;
     for (std::size_t i = n0; i < m.number_of_vertices(); ++i) r.made.push_back(WV(WV::size_type(i)));
     return WV(WV::size_type(m.number_of_vertices() - 1));
+  }
+  /// Counts a refused insert of target vertex tv, and where it is.
+  void refuse(Overlay_result& r, WV tv) const {
+    ++r.refused;
+    r.refused_at.push_back(s.target.m.point(tv));
   }
   /// Whether snapping target vertex tv to a point of M_s whose image is `image` moves it on the target by at
   /// most overlay_snap_share ε or conform_snap times the shortest target edge at tv.
