@@ -8,6 +8,7 @@
 #ifndef CROSSPARAM_REMESHING_VERIFICATION_H
 #define CROSSPARAM_REMESHING_VERIFICATION_H
 
+#include <crossparam/errors.h>
 #include <crossparam/scaling.h>
 #include <crossparam/types.h>
 
@@ -198,8 +199,9 @@ Remeshing_verification::Spot spot(std::size_t index, const Point& p, double d) {
 
 /// The message of a verification: empty when valid; otherwise its figures, then where the tolerance is missed
 /// (the farthest vertices, when beyond it), a new flipped face and a new self-intersection are.
-inline std::string verification_message(const Remeshing_verification& r, double tolerance) {
+inline std::string verification_message(const Remeshing_verification& r) {
   if (r.valid) return {};
+  const double tolerance = r.tolerance;
   std::string m = std::string(r.compatible ? "" : "outputs are not compatible; ") + "target Hausdorff " +
                   std::to_string(r.hausdorff_target) + "% (" + std::to_string(r.hausdorff_to_target) + "% to it, " +
                   std::to_string(r.hausdorff_from_target) + "% from it; tolerance " + std::to_string(tolerance) +
@@ -229,7 +231,7 @@ inline std::string verification_message(const Remeshing_verification& r, double 
 inline void Remeshing_verification::scale_places_by_power_of_two(int exponent) {
   for (Spot* spot : {&farthest_target_vertex, &farthest_output_vertex, &new_flipped_face, &new_self_intersection})
     for (double& x : spot->point) x = std::ldexp(x, exponent);
-  message = internal::verification_message(*this, tolerance);
+  message = internal::verification_message(*this);
 }
 
 /// Whether two meshes have the same number of vertices and the same faces (as vertex index triples, in order).
@@ -356,7 +358,7 @@ Remeshing_verification verify_compatible_remeshing(const Mesh& src, const Mesh& 
   }
   r.valid = r.compatible && r.hausdorff_target <= tolerance && r.hausdorff_source <= source_bound &&
             r.new_flipped_faces() == 0 && r.new_self_intersections == 0;
-  r.message = internal::verification_message(r, tolerance);
+  r.message = internal::verification_message(r);
   return r;
 }
 
