@@ -125,6 +125,13 @@ struct Remeshing_statistics {
   bool overlay_used = false;                  ///< whether the result is the decimated overlay
   std::size_t overlay_vertices = 0;           ///< vertices of the overlay before its decimation (0: not built)
   std::size_t overlay_refused = 0;            ///< inserts and splits of the overlay refused by their exact test
+  /// Target vertices the overlay inserted at their own location over the base mesh, where the location
+  /// interpolated in the face that holds them has its image off them (a part of the target that the map
+  /// squeezes, whose coordinates over the base mesh rounding blurs)
+  std::size_t overlay_exact = 0;
+  /// Crossings of target edges that the overlay made with edges of the source nearly along them over the base
+  /// mesh but not on the target (internal::Overlay_crossing::along; where the map squeezes the target)
+  std::size_t overlay_along_crossed = 0;
   /// Where they are: points of the target, in its input coordinates. A refused insert leaves that target
   /// vertex or edge out of the overlay, so the output can miss the target there: the map compresses that part
   /// of the target into a piece of the source too small for the exact tests in double precision.
@@ -424,12 +431,14 @@ private:
     const internal::Overlay_result made = internal::Target_overlay(o).run(std::size_t(-1));
     stats_.overlay_vertices = o.mesh.m.number_of_vertices();
     stats_.overlay_refused = made.refused;
+    stats_.overlay_exact = made.exact;
+    stats_.overlay_along_crossed = made.along_crossed;
     stats_.overlay_refused_points.clear();
     for (const Point_3& p : made.refused_at) stats_.overlay_refused_points.push_back(o.target.input_point(p));
     stats_.overlay_flips = made.flips + made.delaunay_flips;
     stats_.overlay_complete = made.complete;
     say("remesh: overlay: " + std::to_string(made.made.size()) + " vertices added (" + std::to_string(made.refused) +
-        " refused), " + std::to_string(made.flips) + " edges flipped to insert target edges, " +
+        " refused, " + std::to_string(made.exact) + " at their own location, " + std::to_string(made.along_crossed) + " crossings nearly along), " + std::to_string(made.flips) + " edges flipped to insert target edges, " +
         std::to_string(made.delaunay_flips) + " Lawson flips" + (made.complete ? "" : ", incomplete") + " in " +
         fmt(sec(ts, clock::now())) + " s");
     if (!asked && o.mesh.m.number_of_vertices() > internal::overlay_max_growth * stats_.layout_vertices) {

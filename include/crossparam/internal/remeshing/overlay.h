@@ -90,14 +90,16 @@ enum class Overlay_crossing {
   none,     ///< it does not cross it, or runs along it
   at_first, ///< it crosses it within conform_snap of a (relative to |z - a|)
   at_second,///< ... of z
-  inside    ///< it crosses it farther from both ends, at a + t (z - a)
+  inside,   ///< it crosses it farther from both ends, at a + t (z - a)
+  along     ///< it crosses it (exact test), with both a and z within conform_snap of its line: nearly along it
 };
 /// How segment (c, d) meets segment (a, z): it crosses it when c and d are strictly on either side of the
 /// line of (a, z) and a and z strictly on either side of the line of (c, d) (exact predicates); the crossing
 /// is at an end when that end is within conform_snap times |z - a| of the line of (c, d), or t within
 /// conform_snap of 0 or 1 (an edge of M_s that ends on the target edge, up to rounding); an edge of M_s whose
-/// both ends are that near runs along the target edge and is not crossed. t is computed from the two
-/// distances (well conditioned when the crossing is inside).
+/// both ends are that near is nearly along the target edge (`along`: Target_overlay::crossing() decides on the
+/// target whether it runs along it). t is computed from the two distances (well conditioned when the crossing
+/// is inside).
 inline Overlay_crossing overlay_crossing(const Point_2& a, const Point_2& z, const Point_2& c, const Point_2& d, double& t) {
   const CGAL::Orientation oc = CGAL::orientation(a, z, c), od = CGAL::orientation(a, z, d);
   if (oc == CGAL::ZERO || od == CGAL::ZERO || oc == od) return Overlay_crossing::none;
@@ -111,8 +113,11 @@ inline Overlay_crossing overlay_crossing(const Point_2& a, const Point_2& z, con
   const double dz = ((z.x() - c.x()) * dy - (z.y() - c.y()) * dx) / len;
   const double near = std::max(conform_snap * elen, conform_floor);
   const bool near_a = !(std::abs(da) > near), near_z = !(std::abs(dz) > near);
-  if (near_a && near_z) return Overlay_crossing::none;
   t = da / (da - dz);
+  if (near_a && near_z) {
+    t = std::min(1 - conform_snap, std::max(conform_snap, t));
+    return Overlay_crossing::along;
+  }
   if (!(t > 0 && t < 1)) t = near_a ? 0 : 1;
   if (near_a || !(t > conform_snap)) return Overlay_crossing::at_first;
   if (near_z || !(t < 1 - conform_snap)) return Overlay_crossing::at_second;
@@ -123,6 +128,13 @@ inline Overlay_crossing overlay_crossing(const Point_2& a, const Point_2& z, con
 struct Overlay_result {
   std::vector<WV> made;     ///< vertices it added
   std::size_t refused = 0;  ///< inserts and splits refused by the exact orientation test
+  /// Target vertices inserted at their own location over the base mesh, not the one interpolated in the face
+  /// of M_s that holds them, whose image was off the vertex by more than conform_snap of the target's edges there
+  /// (where the map squeezes the target: Target_overlay::place())
+  std::size_t exact = 0;
+  /// Crossings with edges of M_s nearly along a target edge's line over the base mesh, but not along it on the
+  /// target (Overlay_crossing::along)
+  std::size_t along_crossed = 0;
   std::vector<Point_3> refused_at; ///< where on the target each of those is (working coordinates)
   std::size_t flips = 0;    ///< edges of M_s flipped to make target edges edges of M_s
   std::size_t delaunay_flips = 0; ///< edges flipped afterwards to fatten the faces (Target_overlay::delaunay())
@@ -260,6 +272,7 @@ public:
         for (WV w : CGAL::vertices_around_target(m.halfedge(u), m))
           if (std::find(chain.begin(), chain.end(), w) != chain.end()) on_target.insert(key(u, w));
     }
+    r.along_crossed = along_crossed_;
     r.delaunay_flips = delaunay(on_target);
     s.fold_slack = slack;
     r.complete = skipped == 0 && r.refused == 0 && r.made.size() < max_new;
@@ -298,10 +311,34 @@ private:
     }
     if (small >= 2) return nearest;
     const std::size_t n0 = m.number_of_vertices();
-    const bool done = small == 0 ? s.insert(f, b) : s.split(fv[(zero + 1) % 3], fv[(zero + 2) % 3], b[(zero + 2) % 3]);
+    // The new vertex's location over the base mesh: interpolated at b, or tv's own where the map squeezes the
+    // target so much that the interpolation's rounding moves its image off tv (Overlay_result::exact).
+    const Base_location interpolated = small == 0 ? s.param.at(f, b) : s.param.between(fv[(zero + 1) % 3], fv[(zero + 2) % 3], b[(zero + 2) % 3]);
+    const Base_location* at = nullptr;
+    if (!(std::sqrt(CGAL::squared_distance(s.corner_at(interpolated).pos, s.target.m.point(tv))) <= conform_snap * shortest_edge(tv)))
+      at = &s.target_param[tv], ++r.exact;
+    bool done = small == 0 ? s.insert(f, b, at) : s.split(fv[(zero + 1) % 3], fv[(zero + 2) % 3], b[(zero + 2) % 3], at);
+    // At its own location tv may lie on an edge of f (an insert there would make a face with no area): a split
+    // of that edge at the location, the edge nearest first.
+    for (int k : by_coordinate(b))
+      if (!done && at) done = s.split(fv[(k + 1) % 3], fv[(k + 2) % 3], b[(k + 2) % 3] / std::max(b[(k + 1) % 3] + b[(k + 2) % 3], 1e-300), at);
     if (!done) return refuse(r, tv), nearest;
     for (std::size_t i = n0; i < m.number_of_vertices(); ++i) r.made.push_back(WV(WV::size_type(i)));
     return WV(WV::size_type(m.number_of_vertices() - 1));
+  }
+  /// The corners of a face in increasing order of barycentric coordinates b (their opposite edges nearest first).
+  static std::array<int, 3> by_coordinate(const std::array<double, 3>& b) {
+    std::array<int, 3> k{{0, 1, 2}};
+    std::sort(k.begin(), k.end(), [&b](int i, int j) { return b[std::size_t(i)] < b[std::size_t(j)]; });
+    return k;
+  }
+  /// The length of the shortest target edge at target vertex tv.
+  double shortest_edge(WV tv) const {
+    const auto& tm = s.target.m;
+    double shortest = HUGE_VAL;
+    for (WH h : CGAL::halfedges_around_target(tm.halfedge(tv), tm))
+      shortest = std::min(shortest, std::sqrt(CGAL::squared_distance(tm.point(tv), tm.point(tm.source(h)))));
+    return shortest;
   }
   /// Counts a refused insert of target vertex tv, and where it is.
   void refuse(Overlay_result& r, WV tv) const {
@@ -328,6 +365,7 @@ private:
     WV u, v;
     double t = 0;
   };
+  mutable std::size_t along_crossed_ = 0; ///< Overlay_result::along_crossed
   /// Lawson's flips on M_st, after the target edges are in: an edge that lies along no target edge, whose
   /// two faces therefore lie in one target face (a plane), is flipped when the angles opposite it add up to
   /// more than a half turn there (by a relative 10^-9, so that four points on a circle, up to rounding, are
@@ -413,6 +451,15 @@ private:
     auto decide = [&](Overlay_crossing k) {
       if (k == Overlay_crossing::none) return false;
       if (k == Overlay_crossing::inside) return true;
+      // Nearly along the target edge over the base mesh: along it, or through one of its ends, where an end's
+      // image is near the edge on the target too. Where the map squeezes the target into a sliver of the base
+      // mesh, an edge of M_s can be that near a target edge's line over the base mesh and cross it far from
+      // both ends on the target: it is crossed (Overlay_result::along_crossed).
+      if (k == Overlay_crossing::along) {
+        if (passes_through(u, a, b) || passes_through(v, a, b)) return false;
+        ++along_crossed_;
+        return true;
+      }
       return !passes_through(k == Overlay_crossing::at_first ? u : v, a, b);
     };
     if (B.canonical_frame(ls, c, n, p)) return decide(overlay_crossing(p[0], p[1], p[2], p[3], x.t));

@@ -398,12 +398,14 @@ public:
 
   /// Splits edge (u, v) of the source at parameter t, on the source and in its parameterization, if the four
   /// new faces stay positively oriented over the base mesh (exact test) and M_st gains no fold. Returns
-  /// whether it split.
-  bool split(WV u, WV v, double t) {
+  /// whether it split. `at`, if given, is the new vertex's location over the base mesh, instead of the one
+  /// interpolated at t (the overlay's, for a target vertex: Target_overlay::place()).
+  bool split(WV u, WV v, double t, const Base_location* at = nullptr) {
     const auto& m = mesh.m;
     WH h = m.halfedge(u, v);
     const WV x = m.target(m.next(h)), y = m.target(m.next(m.opposite(h)));
-    const Corner cu = corner(u), cv = corner(v), cx = corner(x), cy = corner(y), cw = corner_at(param.between(u, v, t));
+    const Corner cu = corner(u), cv = corner(v), cx = corner(x), cy = corner(y),
+                 cw = corner_at(at ? *at : param.between(u, v, t));
     if (!acceptable(std::array<Face_plan, 2>{{{&cu, &cv, &cx}, {&cv, &cu, &cy}}},
                     std::array<Face_plan, 4>{{{&cu, &cw, &cx}, {&cw, &cv, &cx}, {&cv, &cw, &cy}, {&cw, &cu, &cy}}}))
       return false;
@@ -534,12 +536,14 @@ public:
   /// meets it, then edge (k, s) at the point. The new vertices lie in the source face, so the source geometry
   /// is kept; the image of the point is F of it, so a target vertex whose preimage it is becomes a vertex of
   /// M_st. Tries the three corners, the one opposite the longest edge of M_st first. Returns whether it did.
-  bool insert(WF f, const std::array<double, 3>& b) {
+  /// `at`, if given, is the point's location over the base mesh, instead of the one interpolated at b.
+  bool insert(WF f, const std::array<double, 3>& b, const Base_location* at = nullptr) {
     const auto& m = mesh.m;
     WH h0 = m.halfedge(f);
     const WV vs[3] = {m.source(h0), m.target(h0), m.target(m.next(h0))};
+    const Corner cp = corner_at(at ? *at : param.at(f, b));
     {
-      const Corner c0 = corner(vs[0]), c1 = corner(vs[1]), c2 = corner(vs[2]), cp = corner_at(param.at(f, b));
+      const Corner c0 = corner(vs[0]), c1 = corner(vs[1]), c2 = corner(vs[2]);
       if (acceptable(std::array<Face_plan, 1>{{{&c0, &c1, &c2}}},
                      std::array<Face_plan, 3>{{{&c0, &c1, &cp}, {&c1, &c2, &cp}, {&c2, &c0, &cp}}})) {
         if (std::size_t(f) < dirty.size()) dirty[f] = 1;
@@ -562,7 +566,7 @@ public:
       std::array<double, 3> bs{{0, 0, 0}};
       bs[i] = 1 - t, bs[j] = t;
       const Corner ca = corner(a), cc = corner(c), ck = corner(kk), cy = corner(y);
-      const Corner cs = corner_at(param.at(f, bs)), cp = corner_at(param.at(f, b));
+      const Corner cs = corner_at(param.at(f, bs));
       if (!acceptable(std::array<Face_plan, 2>{{{&ca, &cc, &ck}, {&cc, &ca, &cy}}},
                       std::array<Face_plan, 6>{{{&ca, &cs, &cp}, {&ca, &cp, &ck}, {&cs, &cc, &cp}, {&cp, &cc, &ck},
                                                  {&cc, &cs, &cy}, {&cs, &ca, &cy}}}))
