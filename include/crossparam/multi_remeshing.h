@@ -31,6 +31,8 @@
 #include <crossparam/internal/remeshing/output_repair.h>
 #include <crossparam/types.h>
 
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+
 #include <algorithm>
 #include <chrono>
 #include <functional>
@@ -164,6 +166,16 @@ public:
     }
     internal::Common_refinement c =
         internal::Common_refinement_builder(source_points, inputs_[s].number_of_faces(), fitted).result();
+    {
+      // The common connectivity must be a manifold mesh, or no output can be built from it: said here, with the
+      // library's error, rather than by CGAL when an output is copied.
+      std::vector<std::vector<std::size_t>> polygons;
+      polygons.reserve(c.faces.size());
+      for (const auto& f : c.faces) polygons.push_back({f[0], f[1], f[2]});
+      if (!CGAL::Polygon_mesh_processing::is_polygon_soup_a_polygon_mesh(polygons))
+        throw Algorithm_error("the common refinement of the " + std::to_string(n) + " remeshings (" +
+                              std::to_string(c.faces.size()) + " faces) is not a manifold mesh");
+    }
     faces_ = std::move(c.faces);
     floc_ = std::move(c.locations);
     points_.resize(n);
