@@ -314,14 +314,18 @@ private:
     // The new vertex's location over the base mesh: interpolated at b, or tv's own where the map squeezes the
     // target so much that the interpolation's rounding moves its image off tv (Overlay_result::exact).
     const Base_location interpolated = small == 0 ? s.param.at(f, b) : s.param.between(fv[(zero + 1) % 3], fv[(zero + 2) % 3], b[(zero + 2) % 3]);
-    const Base_location* at = nullptr;
-    if (!(std::sqrt(CGAL::squared_distance(s.corner_at(interpolated).pos, s.target.m.point(tv))) <= conform_snap * shortest_edge(tv)))
-      at = &s.target_param[tv], ++r.exact;
+    const bool own = !(std::sqrt(CGAL::squared_distance(s.corner_at(interpolated).pos, s.target.m.point(tv))) <=
+                       conform_snap * shortest_edge(tv));
+    const Base_location* at = own ? &s.target_param[tv] : &interpolated;
+    r.exact += own;
     bool done = small == 0 ? s.insert(f, b, at) : s.split(fv[(zero + 1) % 3], fv[(zero + 2) % 3], b[(zero + 2) % 3], at);
     // At its own location tv may lie on an edge of f (an insert there would make a face with no area): a split
     // of that edge at the location, the edge nearest first.
-    for (int k : by_coordinate(b))
-      if (!done && at) done = s.split(fv[(k + 1) % 3], fv[(k + 2) % 3], b[(k + 2) % 3] / std::max(b[(k + 1) % 3] + b[(k + 2) % 3], 1e-300), at);
+    if (own)
+      for (int k : by_coordinate(b)) {
+        if (done) break;
+        done = s.split(fv[(k + 1) % 3], fv[(k + 2) % 3], b[(k + 2) % 3] / std::max(b[(k + 1) % 3] + b[(k + 2) % 3], 1e-300), at);
+      }
     if (!done) return refuse(r, tv), nearest;
     for (std::size_t i = n0; i < m.number_of_vertices(); ++i) r.made.push_back(WV(WV::size_type(i)));
     return WV(WV::size_type(m.number_of_vertices() - 1));
@@ -348,12 +352,7 @@ private:
   /// Whether snapping target vertex tv to a point of M_s whose image is `image` moves it on the target by at
   /// most overlay_snap_share ε or conform_snap times the shortest target edge at tv.
   bool snap_keeps_target(const Point_3& image, WV tv) const {
-    const auto& tm = s.target.m;
-    const Point_3& p = tm.point(tv);
-    double shortest = HUGE_VAL;
-    for (WH h : CGAL::halfedges_around_target(tm.halfedge(tv), tm))
-      shortest = std::min(shortest, std::sqrt(CGAL::squared_distance(p, tm.point(tm.source(h)))));
-    return near_on_target(std::sqrt(CGAL::squared_distance(p, image)), shortest);
+    return near_on_target(std::sqrt(CGAL::squared_distance(s.target.m.point(tv), image)), shortest_edge(tv));
   }
   /// Whether a snap that moves a point by `move` on the target, where the target's edges are `length` long,
   /// keeps it: within overlay_snap_share ε, or within conform_snap of that length.
