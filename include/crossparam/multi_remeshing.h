@@ -29,6 +29,7 @@
 #include <crossparam/errors.h>
 #include <crossparam/internal/remeshing/common_refinement.h>
 #include <crossparam/internal/remeshing/output_repair.h>
+#include <crossparam/remeshing_verification.h>
 #include <crossparam/types.h>
 
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
@@ -144,6 +145,11 @@ public:
       Fit& fit = fits[m];
       fit.faces = r.faces();
       fit.locations = r.source_face_locations();
+      // The common refinement needs each remeshing to tile every input face of the source (its faces each
+      // with area there, oriented as the tiling): checked here rather than trusted.
+      if (const std::size_t bad = source_tiling_defects(fit.locations); bad > 0)
+        throw Algorithm_error("N-way remeshing: the remeshing with mesh " + std::to_string(m) + " has " +
+                              std::to_string(bad) + " faces that do not tile their face of the source");
       fit.target_points = r.target_points();
       const Remeshing_statistics& R = r.statistics();
       stats_.fitted_vertices[m] = R.output_vertices;

@@ -15,6 +15,7 @@
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/compute_normal.h>
 #include <CGAL/Polygon_mesh_processing/distance.h>
 #include <CGAL/Polygon_mesh_processing/locate.h>
@@ -238,6 +239,36 @@ inline void Remeshing_verification::scale_places_by_power_of_two(int exponent) {
 template <class MeshA, class MeshB>
 bool are_compatible(const MeshA& a, const MeshB& b) {
   return num_vertices(a) == num_vertices(b) && internal::face_list(a) == internal::face_list(b);
+}
+
+/// \brief The faces of a remeshing of the source that do not tile the input face they lie in: given by their
+/// corners in barycentric coordinates of that input face (`Compatible_remesher::source_face_locations()`,
+/// `Multi_remesher::source_face_locations()`), a face counts when its corners there are collinear (no area on
+/// the source) or turn the other way than the faces tiling that input face do. The orientation of a face is an
+/// exact test on the coordinates as stored (the sign of the determinant of its three barycentric vectors, which
+/// needs no coordinate sum to be 1); the tiling's is the sign of the sum of the signed areas of the input face's
+/// faces (plus or minus the input face's own area in these coordinates, whatever the input face's shape in space:
+/// its corners are listed in the input's order, which may turn either way). Such a face folds the source-shaped
+/// output over the source, or makes two of its vertices one point of the source, so that the source-shaped and
+/// the target-shaped outputs are no longer one to one; a valid remeshing has none.
+inline std::size_t source_tiling_defects(const std::vector<Input_face_location>& locations) {
+  using P = CGAL::Exact_predicates_inexact_constructions_kernel::Point_3;
+  auto orientation = [](const Input_face_location& l) {
+    const auto& c = l.corners;
+    return CGAL::orientation(P(CGAL::ORIGIN), P(c[0][0], c[0][1], c[0][2]), P(c[1][0], c[1][1], c[1][2]),
+                             P(c[2][0], c[2][1], c[2][2]));
+  };
+  std::map<std::size_t, double> area; // per input face: the sum of its faces' signed areas
+  for (const Input_face_location& l : locations) {
+    const auto& c = l.corners;
+    area[l.face] += (c[1][1] - c[0][1]) * (c[2][2] - c[0][2]) - (c[2][1] - c[0][1]) * (c[1][2] - c[0][2]);
+  }
+  std::size_t n = 0;
+  for (const Input_face_location& l : locations) {
+    const CGAL::Orientation o = orientation(l);
+    n += o == CGAL::COLLINEAR || (o == CGAL::POSITIVE) != (area[l.face] > 0);
+  }
+  return n;
 }
 
 /// \brief Checks the two outputs of a compatible remeshing against the inputs. `tolerance` is the promised

@@ -406,6 +406,12 @@ inline Remeshing_verification write_remesh(const Options& o, const Map& cp, cons
   r.copy_to(Mesh_side::target, out_target);
   Remeshing_verification check = verify_compatible_remeshing(source0, target0, out_source, out_target, o.tolerance);
   check.scale_places_by_power_of_two(-o.units_exponent); // the places it names, in the user's units
+  // The source side from the faces' places on the source (the verifier sees the meshes only).
+  const std::size_t tiling = source_tiling_defects(r.source_face_locations());
+  if (tiling > 0) {
+    check.valid = false;
+    check.message += "; " + std::to_string(tiling) + " faces do not tile their face of the source";
+  }
   const Remeshing_statistics& S = r.statistics();
   // What the remesher could not make, and where: target points the overlay could not insert.
   if (!check.valid && S.overlay_used && !S.overlay_refused_points.empty()) {
@@ -471,6 +477,7 @@ inline Remeshing_verification write_remesh(const Options& o, const Map& cp, cons
     j.member("certificate", r.certificate().valid);
     j.key("verification").begin_object().member("valid", check.valid).member("compatible", check.compatible);
     j.member("hausdorff_percent", check.hausdorff_target).member("hausdorff_source_percent", check.hausdorff_source);
+    j.member("source_tiling_defects", tiling);
     j.member("flipped_faces", check.flipped_faces).member("flipped_at_target_folds", check.flipped_at_target_folds);
     j.member("normal_deviation_mean_degrees", check.normal_deviation_mean);
     j.member("faces_above_30", check.faces_above_30);

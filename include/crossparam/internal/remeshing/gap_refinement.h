@@ -246,7 +246,8 @@ inline Gap_snap_result snap_surface_gaps(Remesh_state& s, unsigned max_rounds, s
         const Corner cu = s.corner(u), cv = s.corner(v), cx = s.corner(x), cy = s.corner(y);
         auto fits = [&](const Corner& c) {
           const std::array<Face_plan, 4> after{{{&cu, &c, &cx}, {&c, &cv, &cx}, {&cv, &c, &cy}, {&c, &cu, &cy}}};
-          return s.acceptable(std::array<Face_plan, 2>{{{&cu, &cv, &cx}, {&cv, &cu, &cy}}}, after) &&
+          return s.split_keeps_source(u, v, x, y, t) &&
+                 s.acceptable(std::array<Face_plan, 2>{{{&cu, &cv, &cx}, {&cv, &cu, &cy}}}, after) &&
                  closes(after, std::sqrt(g.d2));
         };
         if (!fits(cw) && !fits(cw = s.corner_at(cw.loc))) {
@@ -261,7 +262,8 @@ inline Gap_snap_result snap_surface_gaps(Remesh_state& s, unsigned max_rounds, s
         const Corner c0 = s.corner(vs[0]), c1 = s.corner(vs[1]), c2 = s.corner(vs[2]);
         auto fits = [&](const Corner& c) {
           const std::array<Face_plan, 3> after{{{&c0, &c1, &c}, {&c1, &c2, &c}, {&c2, &c0, &c}}};
-          return s.acceptable(std::array<Face_plan, 1>{{{&c0, &c1, &c2}}}, after) && closes(after, std::sqrt(g.d2));
+          return s.insert_keeps_source(f, g.b) && s.acceptable(std::array<Face_plan, 1>{{{&c0, &c1, &c2}}}, after) &&
+                 closes(after, std::sqrt(g.d2));
         };
         if (!fits(cw) && !fits(cw = s.corner_at(cw.loc))) {
           repaired(changed, [&] { return s.insert(f, g.b); });

@@ -380,6 +380,72 @@ public:
     fold_change = na - nb;
     return na <= nb + fold_slack;
   }
+  /// Whether a new vertex with barycentrics `r` in input face o (w.r.t. the input face's corners), joined to
+  /// each edge (p, q) of `rim` (in the order of the face it replaces), makes faces (p, q, new) that are
+  /// oriented in o's barycentric plane as `side`, the replaced face's orientation there (exact tests,
+  /// barycentric_orientation()). Interpolating a new vertex's coordinates in a face that is a sliver on the
+  /// source can round it onto an edge or a corner of that face, or past it: a face with no area, or folded,
+  /// on the source-shaped mesh (its points would no longer be the source's surface one to one).
+  template <std::size_t N>
+  bool keeps_source_tiling(int o, const std::array<double, 3>& r, const std::array<std::array<WV, 2>, N>& rim,
+                           CGAL::Orientation side) const {
+    if (side == CGAL::COLLINEAR) return false;
+    for (const auto& e : rim) {
+      std::array<double, 3> rp, rq;
+      if (!mesh.rep_in(e[0], o, rp) || !mesh.rep_in(e[1], o, rq) || barycentric_orientation(rp, rq, r) != side)
+        return false;
+    }
+    return true;
+  }
+  /// The orientation of face (a, b, c) in input face o's barycentric plane (COLLINEAR if a corner is not on o).
+  CGAL::Orientation source_orientation(int o, WV a, WV b, WV c) const {
+    std::array<double, 3> ra, rb, rc;
+    if (!mesh.rep_in(a, o, ra) || !mesh.rep_in(b, o, rb) || !mesh.rep_in(c, o, rc)) return CGAL::COLLINEAR;
+    return barycentric_orientation(ra, rb, rc);
+  }
+  /// The barycentrics in input face o of the point u + t (v - u) of edge (u, v), if both ends are on o.
+  bool rep_between(int o, WV u, WV v, double t, std::array<double, 3>& r) const {
+    std::array<double, 3> ru, rv;
+    if (!mesh.rep_in(u, o, ru) || !mesh.rep_in(v, o, rv)) return false;
+    for (int k = 0; k < 3; ++k) r[k] = (1 - t) * ru[k] + t * rv[k];
+    return true;
+  }
+  /// Whether splitting edge (u, v) at t, x and y the corners opposite it, keeps both of its faces' halves
+  /// tiling them on the source (keeps_source_tiling()), with the new vertex's barycentrics as split_edge()
+  /// computes them.
+  bool split_keeps_source(WV u, WV v, WV x, WV y, double t) const {
+    const auto& m = mesh.m;
+    const WH h = m.halfedge(u, v);
+    const int oa = mesh.forig[m.face(h)], ob = mesh.forig[m.face(m.opposite(h))];
+    std::array<double, 3> r;
+    int o = oa;
+    if (!rep_between(o, u, v, t, r)) {
+      o = ob;
+      if (!rep_between(o, u, v, t, r)) return false;
+    }
+    const auto& tri = mesh.orig_tri;
+    std::array<double, 3> ra = r, rb = r;
+    if (oa != o && !reexpress_barycentric(tri[o], r, tri[oa], ra)) return false;
+    if (ob != o && !reexpress_barycentric(tri[o], r, tri[ob], rb)) return false;
+    return keeps_source_tiling(oa, ra, std::array<std::array<WV, 2>, 2>{{{{v, x}}, {{x, u}}}}, source_orientation(oa, u, v, x)) &&
+           keeps_source_tiling(ob, rb, std::array<std::array<WV, 2>, 2>{{{{u, y}}, {{y, v}}}}, source_orientation(ob, v, u, y));
+  }
+  /// Whether inserting a vertex at barycentrics b of face f keeps its three new faces tiling f on the source
+  /// (keeps_source_tiling()), with the new vertex's barycentrics as split_face() computes them.
+  bool insert_keeps_source(WF f, const std::array<double, 3>& b) const {
+    const auto& m = mesh.m;
+    const WH h = m.halfedge(f);
+    const WV vs[3] = {m.source(h), m.target(h), m.target(m.next(h))};
+    const int o = mesh.forig[f];
+    std::array<double, 3> r{{0, 0, 0}};
+    for (int i = 0; i < 3; ++i) {
+      std::array<double, 3> ri;
+      if (!mesh.rep_in(vs[i], o, ri)) return false;
+      for (int k = 0; k < 3; ++k) r[k] += b[i] * ri[k];
+    }
+    return keeps_source_tiling(o, r, std::array<std::array<WV, 2>, 3>{{{{vs[0], vs[1]}}, {{vs[1], vs[2]}}, {{vs[2], vs[0]}}}},
+                               source_orientation(o, vs[0], vs[1], vs[2]));
+  }
   /// Adds the new vertex of a split (the mesh already split) with its planned corner.
   void commit(WV nw, const Corner& c) {
     if (std::size_t(nw) != param.loc.size()) throw Algorithm_error("internal error: split vertex out of order");
@@ -406,6 +472,7 @@ public:
     const WV x = m.target(m.next(h)), y = m.target(m.next(m.opposite(h)));
     const Corner cu = corner(u), cv = corner(v), cx = corner(x), cy = corner(y),
                  cw = corner_at(at ? *at : param.between(u, v, t));
+    if (!split_keeps_source(u, v, x, y, t)) return false;
     if (!acceptable(std::array<Face_plan, 2>{{{&cu, &cv, &cx}, {&cv, &cu, &cy}}},
                     std::array<Face_plan, 4>{{{&cu, &cw, &cx}, {&cw, &cv, &cx}, {&cv, &cw, &cy}, {&cw, &cu, &cy}}}))
       return false;
@@ -429,16 +496,16 @@ public:
     if (orig < 0 || mesh.forig[m.face(o)] != orig) return false;
     const WV u = m.source(h), v = m.target(h), x = m.target(m.next(h)), y = m.target(m.next(o));
     if (x == y || m.halfedge(x, y) != WH()) return false;
-    std::array<Kernel::Point_2, 4> q; // u, v, x, y in the input face's barycentric plane
+    // u, v, x, y in the input face's barycentric coordinates, oriented by barycentric_orientation() (which
+    // needs no coordinate sum to be 1: interpolated coordinates are off 1 by rounding, and in a sliver that
+    // rounding can decide a 2D test on two of them).
+    std::array<std::array<double, 3>, 4> q;
     const WV vs[4] = {u, v, x, y};
-    for (int i = 0; i < 4; ++i) {
-      std::array<double, 3> b;
-      if (!mesh.rep_in(vs[i], orig, b)) return false;
-      q[i] = Kernel::Point_2(b[1], b[2]);
-    }
-    const CGAL::Orientation side = CGAL::orientation(q[0], q[1], q[2]);
-    if (side == CGAL::COLLINEAR || CGAL::orientation(q[1], q[0], q[3]) != side ||
-        CGAL::orientation(q[0], q[3], q[2]) != side || CGAL::orientation(q[1], q[2], q[3]) != side)
+    for (int i = 0; i < 4; ++i)
+      if (!mesh.rep_in(vs[i], orig, q[i])) return false;
+    const CGAL::Orientation side = barycentric_orientation(q[0], q[1], q[2]);
+    if (side == CGAL::COLLINEAR || barycentric_orientation(q[1], q[0], q[3]) != side ||
+        barycentric_orientation(q[0], q[3], q[2]) != side || barycentric_orientation(q[1], q[2], q[3]) != side)
       return false;
     const Base_mesh& B = *param.base;
     return B.triangle_orientation(param[u], param[y], param[x]) == CGAL::POSITIVE &&
@@ -542,7 +609,8 @@ public:
     WH h0 = m.halfedge(f);
     const WV vs[3] = {m.source(h0), m.target(h0), m.target(m.next(h0))};
     const Corner cp = corner_at(at ? *at : param.at(f, b));
-    {
+    const int o = mesh.forig[f];
+    if (insert_keeps_source(f, b)) {
       const Corner c0 = corner(vs[0]), c1 = corner(vs[1]), c2 = corner(vs[2]);
       if (acceptable(std::array<Face_plan, 1>{{{&c0, &c1, &c2}}},
                      std::array<Face_plan, 3>{{{&c0, &c1, &cp}, {&c1, &c2, &cp}, {&c2, &c0, &cp}}})) {
@@ -565,6 +633,18 @@ public:
       const WV y = m.target(m.next(m.opposite(h)));
       std::array<double, 3> bs{{0, 0, 0}};
       bs[i] = 1 - t, bs[j] = t;
+      {
+        // On the source, as split_edge() computes them: s on (a, c), then the point on (kk, s), both in o.
+        std::array<double, 3> rs, rk, rp, ra, rc;
+        if (!split_keeps_source(a, c, kk, y, t) || !rep_between(o, a, c, t, rs) || !mesh.rep_in(kk, o, rk) ||
+            !mesh.rep_in(a, o, ra) || !mesh.rep_in(c, o, rc))
+          continue;
+        for (int q = 0; q < 3; ++q) rp[q] = (1 - t2) * rk[q] + t2 * rs[q];
+        const CGAL::Orientation side = barycentric_orientation(ra, rc, rk);
+        if (barycentric_orientation(ra, rs, rp) != side || barycentric_orientation(ra, rp, rk) != side ||
+            barycentric_orientation(rs, rc, rp) != side || barycentric_orientation(rp, rc, rk) != side)
+          continue;
+      }
       const Corner ca = corner(a), cc = corner(c), ck = corner(kk), cy = corner(y);
       const Corner cs = corner_at(param.at(f, bs));
       if (!acceptable(std::array<Face_plan, 2>{{{&ca, &cc, &ck}, {&cc, &ca, &cy}}},
