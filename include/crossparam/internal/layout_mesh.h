@@ -796,6 +796,32 @@ public:
     return CGAL::centroid(m.point(m.source(h)), m.point(m.target(h)), m.point(m.target(m.next(h))));
   }
 
+  /// The new vertex of split_edge(u, v, t) as a point of the original mesh: the original face o (of the faces
+  /// at halfedge (u, v), then at its opposite, the first that holds both ends) and its barycentrics r there.
+  bool split_rep(WV u, WV v, double t, int& o, std::array<double, 3>& r) const {
+    const WH h = m.halfedge(u, v);
+    std::array<double, 3> ru, rv;
+    for (const int c : {forig[m.face(h)], forig[m.face(m.opposite(h))]})
+      if (rep_in(u, c, ru) && rep_in(v, c, rv)) {
+        o = c;
+        for (int k = 0; k < 3; ++k) r[k] = (1 - t) * ru[k] + t * rv[k];
+        return true;
+      }
+    return false;
+  }
+  /// The new vertex of split_face(f, b) as barycentrics r in f's original face.
+  bool insert_rep(WF f, const std::array<double, 3>& b, std::array<double, 3>& r) const {
+    const WH h = m.halfedge(f);
+    const WV vs[3] = {m.source(h), m.target(h), m.target(m.next(h))};
+    r = {0, 0, 0};
+    for (int i = 0; i < 3; ++i) {
+      std::array<double, 3> ri;
+      if (!rep_in(vs[i], forig[f], ri)) return false;
+      for (int k = 0; k < 3; ++k) r[k] += b[i] * ri[k];
+    }
+    return true;
+  }
+
   /// Splits edge (u, v) at u + t (v - u) (the midpoint by default), keeping every bookkeeping up to date.
   WV split_edge(WV u, WV v, double t = 0.5) {
     const Point_3 &pu = m.point(u), &pv = m.point(v);
@@ -804,18 +830,12 @@ public:
     WH h = m.halfedge(u, v);
     const int oa = forig[m.face(h)], ob = forig[m.face(m.opposite(h))];
     const WV xa = m.target(m.next(h)); // opposite corner on h's side: its faces inherit oa, the others ob
-    // The new vertex as a point of the original mesh: the midpoint, in an original face holding both ends.
-    std::array<double, 3> ru, rv;
-    int o = oa;
-    if (!(rep_in(u, o, ru) && rep_in(v, o, rv))) {
-      o = ob;
-      if (!(rep_in(u, o, ru) && rep_in(v, o, rv)))
-        throw Algorithm_error("internal error: split edge lies in no original face");
-    }
+    int o;
+    std::array<double, 3> r;
+    if (!split_rep(u, v, t, o, r)) throw Algorithm_error("internal error: split edge lies in no original face");
     WV w = split_edge_and_triangulate(m, m.points(), u, v, p);
     splits.push_back({std::size_t(u), std::size_t(v), std::size_t(w), t});
-    record_new_vertex(w, o, {(1 - t) * ru[0] + t * rv[0], (1 - t) * ru[1] + t * rv[1], (1 - t) * ru[2] + t * rv[2]},
-                      std::array<WV, 2>{{u, v}}, std::array<double, 2>{{1 - t, t}});
+    record_new_vertex(w, o, r, std::array<WV, 2>{{u, v}}, std::array<double, 2>{{1 - t, t}});
     for (WF f : CGAL::faces_around_target(m.halfedge(w), m)) {
       bool has_a = false;
       for (WV x : CGAL::vertices_around_face(m.halfedge(f), m)) has_a |= (x == xa);
@@ -831,12 +851,8 @@ public:
     WH h = m.halfedge(f);
     const WV vs[3] = {m.source(h), m.target(h), m.target(m.next(h))};
     const int o = forig[f];
-    std::array<double, 3> r{{0, 0, 0}};
-    for (int i = 0; i < 3; ++i) {
-      std::array<double, 3> ri;
-      if (!rep_in(vs[i], o, ri)) throw Algorithm_error("internal error: split face lies in no original face");
-      for (int k = 0; k < 3; ++k) r[k] += b[i] * ri[k];
-    }
+    std::array<double, 3> r;
+    if (!insert_rep(f, b, r)) throw Algorithm_error("internal error: split face lies in no original face");
     const Point_3 q = barycentric_point(m.point(vs[0]), m.point(vs[1]), m.point(vs[2]), b);
     WH hc = CGAL::Euler::add_center_vertex(h, m);
     WV w = m.target(hc);

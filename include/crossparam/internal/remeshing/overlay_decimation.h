@@ -391,10 +391,7 @@ private:
   /// overlay can leave a face reversed or with no area on the source by rounding (a vertex computed within
   /// rounding of an edge), which a collapse may remove and must never enlarge.
   bool in_input_face(const std::array<WV, 3>& c, int o) const {
-    std::array<std::array<double, 3>, 3> q;
-    for (int i = 0; i < 3; ++i)
-      if (!s.mesh.rep_in(c[i], o, q[i])) return false;
-    return barycentric_orientation(q[0], q[1], q[2]) == CGAL::POSITIVE;
+    return s.source_orientation(o, c[0], c[1], c[2]) == CGAL::POSITIVE;
   }
 
   enum class Follow { yes, far, steep };

@@ -403,26 +403,16 @@ public:
     if (!mesh.rep_in(a, o, ra) || !mesh.rep_in(b, o, rb) || !mesh.rep_in(c, o, rc)) return CGAL::COLLINEAR;
     return barycentric_orientation(ra, rb, rc);
   }
-  /// The barycentrics in input face o of the point u + t (v - u) of edge (u, v), if both ends are on o.
-  bool rep_between(int o, WV u, WV v, double t, std::array<double, 3>& r) const {
-    std::array<double, 3> ru, rv;
-    if (!mesh.rep_in(u, o, ru) || !mesh.rep_in(v, o, rv)) return false;
-    for (int k = 0; k < 3; ++k) r[k] = (1 - t) * ru[k] + t * rv[k];
-    return true;
-  }
   /// Whether splitting edge (u, v) at t, x and y the corners opposite it, keeps both of its faces' halves
   /// tiling them on the source (keeps_source_tiling()), with the new vertex's barycentrics as split_edge()
-  /// computes them.
+  /// computes them (Layout_mesh::split_rep()).
   bool split_keeps_source(WV u, WV v, WV x, WV y, double t) const {
     const auto& m = mesh.m;
     const WH h = m.halfedge(u, v);
     const int oa = mesh.forig[m.face(h)], ob = mesh.forig[m.face(m.opposite(h))];
+    int o;
     std::array<double, 3> r;
-    int o = oa;
-    if (!rep_between(o, u, v, t, r)) {
-      o = ob;
-      if (!rep_between(o, u, v, t, r)) return false;
-    }
+    if (!mesh.split_rep(u, v, t, o, r)) return false;
     const auto& tri = mesh.orig_tri;
     std::array<double, 3> ra = r, rb = r;
     if (oa != o && !reexpress_barycentric(tri[o], r, tri[oa], ra)) return false;
@@ -431,19 +421,16 @@ public:
            keeps_source_tiling(ob, rb, std::array<std::array<WV, 2>, 2>{{{{u, y}}, {{y, v}}}}, source_orientation(ob, v, u, y));
   }
   /// Whether inserting a vertex at barycentrics b of face f keeps its three new faces tiling f on the source
-  /// (keeps_source_tiling()), with the new vertex's barycentrics as split_face() computes them.
+  /// (keeps_source_tiling()), with the new vertex's barycentrics as split_face() computes them
+  /// (Layout_mesh::insert_rep()).
   bool insert_keeps_source(WF f, const std::array<double, 3>& b) const {
     const auto& m = mesh.m;
     const WH h = m.halfedge(f);
     const WV vs[3] = {m.source(h), m.target(h), m.target(m.next(h))};
     const int o = mesh.forig[f];
-    std::array<double, 3> r{{0, 0, 0}};
-    for (int i = 0; i < 3; ++i) {
-      std::array<double, 3> ri;
-      if (!mesh.rep_in(vs[i], o, ri)) return false;
-      for (int k = 0; k < 3; ++k) r[k] += b[i] * ri[k];
-    }
-    return keeps_source_tiling(o, r, std::array<std::array<WV, 2>, 3>{{{{vs[0], vs[1]}}, {{vs[1], vs[2]}}, {{vs[2], vs[0]}}}},
+    std::array<double, 3> r;
+    return mesh.insert_rep(f, b, r) &&
+           keeps_source_tiling(o, r, std::array<std::array<WV, 2>, 3>{{{{vs[0], vs[1]}}, {{vs[1], vs[2]}}, {{vs[2], vs[0]}}}},
                                source_orientation(o, vs[0], vs[1], vs[2]));
   }
   /// Adds the new vertex of a split (the mesh already split) with its planned corner.
@@ -634,10 +621,12 @@ public:
       std::array<double, 3> bs{{0, 0, 0}};
       bs[i] = 1 - t, bs[j] = t;
       {
-        // On the source, as split_edge() computes them: s on (a, c), then the point on (kk, s), both in o.
+        // On the source, as split_edge() computes them: s on (a, c) (in o: both are corners of f), then the
+        // point on (kk, s), in o.
+        int os;
         std::array<double, 3> rs, rk, rp, ra, rc;
-        if (!split_keeps_source(a, c, kk, y, t) || !rep_between(o, a, c, t, rs) || !mesh.rep_in(kk, o, rk) ||
-            !mesh.rep_in(a, o, ra) || !mesh.rep_in(c, o, rc))
+        if (!split_keeps_source(a, c, kk, y, t) || !mesh.split_rep(a, c, t, os, rs) || os != o ||
+            !mesh.rep_in(kk, o, rk) || !mesh.rep_in(a, o, ra) || !mesh.rep_in(c, o, rc))
           continue;
         for (int q = 0; q < 3; ++q) rp[q] = (1 - t2) * rk[q] + t2 * rs[q];
         const CGAL::Orientation side = barycentric_orientation(ra, rc, rk);
