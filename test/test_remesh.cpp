@@ -12,6 +12,7 @@
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
+#include <CGAL/Polygon_mesh_processing/orientation.h>
 
 #include <gtest/gtest.h>
 
@@ -706,6 +707,30 @@ TEST(RemeshOverlay, ValidByConstructionAtEveryTolerance) {
     for (std::size_t t = 1; t < tolerances.size(); ++t) EXPECT_GE(vertices[t], vertices[t - 1]) << q.name;
     EXPECT_LE(vertices[3], 10 * vertices[0]) << q.name;
   }
+}
+
+// Inputs oriented inward: the work meshes are the inputs reversed, so every face tiles its input face with a
+// negative orientation in that face's barycentric coordinates (the user's corner order). The decimation must
+// judge a collapse against that orientation, not against a positive one (which refused every collapse and
+// left the whole overlay, with faces of rounding size flipped).
+TEST(RemeshOverlay, InputsOrientedInward) {
+  Surface_mesh a = shapes::make_deformed_sphere(41, 1500, false), b = shapes::make_deformed_sphere(43, 700, true);
+  const Feature_correspondence f = shapes::random_features(a, b, 9, 77, false);
+  CGAL::Polygon_mesh_processing::reverse_face_orientations(a);
+  CGAL::Polygon_mesh_processing::reverse_face_orientations(b);
+  const double tol = 0.5;
+  const Outcome o = remesh_and_verify(a, b, f, tol, Remeshing_construction::overlay);
+  std::cout << "[ overlay ] inward spheres: overlay " << o.stats.overlay_vertices << " vertices, "
+            << o.stats.overlay_collapses << " collapses, " << o.stats.output_vertices << " left, Hausdorff "
+            << o.check.hausdorff_target << " %; " << (o.check.valid ? "valid" : "NOT valid: " + o.check.message) << "\n";
+  EXPECT_TRUE(o.stats.overlay_used);
+  EXPECT_TRUE(o.certificate);
+  EXPECT_TRUE(o.source_prefix_exact);
+  EXPECT_EQ(o.flat_on_source, 0u);
+  EXPECT_TRUE(o.check.valid) << o.check.message;
+  // Decimated: at most twice the source's vertices (the outward pair keeps well under that).
+  EXPECT_GT(o.stats.overlay_collapses, 0u);
+  EXPECT_LE(o.stats.output_vertices, 2 * a.number_of_vertices());
 }
 
 // How the overlay classifies a target edge (c, d) against an edge (a, z) of the remeshed source, in a frame of

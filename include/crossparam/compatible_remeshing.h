@@ -146,6 +146,11 @@ struct Remeshing_statistics {
   std::size_t overlay_zippers_folding = 0;     ///< of those, flipped although the flip folds a face of M_st, left to the strict repair
   std::size_t overlay_flipped = 0, overlay_intersecting = 0; ///< the strict figures of the decimated overlay
   std::size_t overlay_disks = 0;               ///< disks its strict repair re-embedded on the target
+  /// Vertices added to the decimated overlay where a sample of one mesh lay beyond 0.9 ε of the other (the
+  /// surface-distance step, gap_refinement.h: the faces the overlay left across a refused insert are not
+  /// certified by the decimation), and the samples its last round still found beyond 0.9 ε
+  std::size_t overlay_gap_vertices = 0, overlay_gap_samples_left = 0;
+  double seconds_overlay_gaps = 0;           ///< the time of that step (part of seconds_overlay)
   unsigned smoothing_rounds = 0, refinement_rounds = 0;
   double tolerance = 0;              ///< ε, percent
   double max_error_initial = 0, l2_error_initial = 0; ///< e(v) of M_st right after the projection
@@ -471,8 +476,21 @@ private:
     // What the overlay could not make exact (a split refused by its exact test leaves a face across a target
     // edge) gets the strict repair, as the refinement's result does, but no repair that takes a face farther from
     // the target than the decimation's margin.
-    const internal::Strict_repair_result rep =
-        internal::strict_repair(o, 2 * o.mesh.m.number_of_vertices(), 8, internal::decimation_margin * o.eps);
+    const std::size_t repair_cap = 2 * o.mesh.m.number_of_vertices();
+    internal::Strict_repair_result rep = internal::strict_repair(o, repair_cap, 8, internal::decimation_margin * o.eps);
+    // The decimation certifies the distance of every face it makes; the faces the overlay made are within ε
+    // where they lie in one target face, but not across a target vertex or edge it refused. The surface-distance
+    // step samples both distances and adds vertices where a sample lies beyond 0.9 ε; what it adds gets the
+    // strict repair again (its first pass finds nothing elsewhere to do).
+    const auto tgap = clock::now();
+    const internal::Gap_snap_result gaps = internal::snap_surface_gaps(o, 8, repair_cap);
+    stats_.seconds_overlay_gaps = sec(tgap, clock::now());
+    stats_.overlay_gap_vertices = gaps.vertices, stats_.overlay_gap_samples_left = gaps.left;
+    if (gaps.vertices > 0) {
+      const internal::Strict_repair_result again = internal::strict_repair(o, repair_cap, 8, internal::decimation_margin * o.eps);
+      rep.flipped_after = again.flipped_after, rep.intersecting_after = again.intersecting_after;
+      rep.splits += again.splits, rep.disks += again.disks;
+    }
     const std::size_t flipped = rep.flipped_after, intersecting = rep.intersecting_after;
     stats_.overlay_collapses = d.collapses;
     stats_.overlay_work_bound_reached = d.work_bound_reached;
@@ -492,10 +510,12 @@ private:
         " folding a face for the strict repair); then " + std::to_string(rep.flipped_before) + " flipped and " +
         std::to_string(rep.intersecting_before) + " intersecting faces, " + std::to_string(flipped) + " and " +
         std::to_string(intersecting) + " after the strict repair (" + std::to_string(rep.splits) + " vertices added, " + std::to_string(rep.disks) +
-        " disks re-embedded); " +
+        " disks re-embedded); surface distance: at most " + fmt(100 * gaps.worst_before) + "% sampled, " +
+        std::to_string(gaps.vertices) + " vertices added in " + fmt(stats_.seconds_overlay_gaps) + " s" +
+        (gaps.left ? ", " + std::to_string(gaps.left) + " samples still beyond 0.9 ε" : "") + "; " +
         fmt(stats_.seconds_overlay) + " s in all");
     const std::size_t bad = flipped + intersecting, bad_refined = stats_.strict_flipped_after + stats_.strict_intersecting_after;
-    return bad < bad_refined || (bad == bad_refined && stats_.gap_samples_left > 0);
+    return bad < bad_refined || (bad == bad_refined && gaps.left < stats_.gap_samples_left);
   }
 
   /// Folds left (additions to the paper): untangled on the target, off F, which adds no vertex; where that

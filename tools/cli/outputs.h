@@ -465,7 +465,8 @@ inline Remeshing_verification write_remesh(const Options& o, const Map& cp, cons
     j.member("work_bound_reached", S.overlay_work_bound_reached);
     j.member("needles_removed", S.overlay_needles_removed).member("needles_left", S.overlay_needles_left)
         .member("zippers_flipped", S.overlay_zippers_flipped).member("zippers_folding", S.overlay_zippers_folding);
-    j.member("flipped", S.overlay_flipped).member("intersecting", S.overlay_intersecting).member("disks", S.overlay_disks).end_object();
+    j.member("flipped", S.overlay_flipped).member("intersecting", S.overlay_intersecting).member("disks", S.overlay_disks);
+    j.member("gap_vertices", S.overlay_gap_vertices).member("gap_samples_left", S.overlay_gap_samples_left).end_object();
     j.key("surface_gaps").begin_object().member("sampled_max_before_percent", S.gap_before).member("vertices_added", S.gap_vertices);
     j.member("rounds", S.gap_rounds).member("samples_left", S.gap_samples_left).end_object();
     j.member("tolerance_percent", S.tolerance);

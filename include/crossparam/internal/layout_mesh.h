@@ -89,6 +89,10 @@ struct Layout_mesh_data {
   bool reversed = false;
   /// Corners of each original face in the user's order (file order), as vertex indices.
   std::vector<std::array<std::size_t, 3>> orig_tri;
+  /// The orientation that each original face's work face has in that face's barycentric coordinates
+  /// (w.r.t. orig_tri, in the user's order): POSITIVE, or NEGATIVE where the work mesh is the input reversed
+  /// (an input oriented inward, make_work_mesh()). Every face that tiles an original face has its orientation.
+  std::vector<CGAL::Orientation> orig_orientation;
   /// Every vertex as a point of the original mesh: original face and barycentrics w.r.t. orig_tri.
   std::vector<std::pair<int, std::array<double, 3>>> vrep;
   /// Per vertex: approximate geodesic distance (edge-graph Dijkstra, scaled to unit area) to every feature.
@@ -231,8 +235,15 @@ public:
     n_original_faces = m.number_of_faces();
     orig_tri = tris;
     vrep.assign(n_original_vertices, {-1, {0, 0, 0}});
+    orig_orientation.assign(tris.size(), CGAL::POSITIVE);
     for (std::size_t f = 0; f < tris.size(); ++f) {
       forig[WF(WF::size_type(f))] = int(f);
+      // The work face's corners are a rotation of the user's (positive) or of their reverse (negative).
+      const WH h = m.halfedge(WF(WF::size_type(f)));
+      const std::size_t a = std::size_t(m.source(h)), b = std::size_t(m.target(h));
+      const auto& t = tris[f];
+      const bool same = (a == t[0] && b == t[1]) || (a == t[1] && b == t[2]) || (a == t[2] && b == t[0]);
+      orig_orientation[f] = same ? CGAL::POSITIVE : CGAL::NEGATIVE;
       for (int i = 0; i < 3; ++i)
         if (vrep[tris[f][i]].first < 0) {
           vrep[tris[f][i]].first = int(f);

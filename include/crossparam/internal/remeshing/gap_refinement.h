@@ -9,6 +9,7 @@
 #define CROSSPARAM_INTERNAL_REMESHING_GAP_REFINEMENT_H
 
 #include <crossparam/internal/barycentric.h>
+#include <crossparam/internal/remeshing/distance_certificate.h>
 #include <crossparam/internal/remeshing/fold_repair.h>
 #include <crossparam/internal/remeshing/remesh_state.h>
 
@@ -140,7 +141,16 @@ inline Gap_snap_result snap_surface_gaps(Remesh_state& s, unsigned max_rounds, s
       const K::Triangle_3& t = tris[i];
       // The search starts from a corner, which lies on the target (faster than a search from nowhere; the
       // closest point found is the same).
-      const WV corner = m.source(m.halfedge(WF(static_cast<WF::size_type>(i))));
+      const WH hi = m.halfedge(WF(static_cast<WF::size_type>(i)));
+      const WV corner = m.source(hi);
+      // Faces certified within the limit (distance_certificate.h: the usual case, a face over one flat part of
+      // the target) need no sample: no point of theirs is beyond it.
+      {
+        std::pair<Point_3, WF> hint(s.pos[corner], s.img[corner].face);
+        const Distance_probe a{t[0], 0, s.img[corner].face}, b{t[1], 0, s.img[m.target(hi)].face},
+            c{t[2], 0, s.img[m.target(m.next(hi))].face};
+        if (certified_within(target_tree, mt, a, b, c, limit, hint)) continue;
+      }
       const typename T_tree::Point_and_primitive_id hint(s.pos[corner], s.img[corner].face);
       for_each_gap_sample(longest_side(t[0], t[1], t[2]), s.eps, limit, {0, 0, 0}, [&](const std::array<double, 3>& b, int) {
         const Point_3 p = barycentric_point(t[0], t[1], t[2], b);
@@ -148,25 +158,37 @@ inline Gap_snap_result snap_surface_gaps(Remesh_state& s, unsigned max_rounds, s
         return record(i, CGAL::squared_distance(p, hit.first), b, hit.first, hit.second);
       });
     }
+    std::size_t last_hit = 0; // the M_st face nearest the last target sample
     auto target_sample = [&](const Point_3& p, WF tf) {
       const auto hit = mst_tree.closest_point_and_primitive(p);
-      const std::size_t i = std::size_t(hit.second - tris.cbegin());
+      const std::size_t i = last_hit = std::size_t(hit.second - tris.cbegin());
       const K::Triangle_3& t = tris[i];
       const double d2 = CGAL::squared_distance(p, hit.first);
       if (d2 > limit2) far_target[tf] = 1;
       return record(i, d2, barycentric_in_triangle(t[0], t[1], t[2], hit.first), p, tf);
     };
     std::vector<double> vertex_d2(mt.number_of_vertices(), -1.0);
+    std::vector<std::size_t> vertex_near(mt.number_of_vertices(), 0); // the M_st face nearest each target vertex
     for (WF tf : mt.faces()) {
       if (!sample_target[tf]) continue;
       for (WH h : CGAL::halfedges_around_face(mt.halfedge(tf), mt))
-        if (vertex_d2[mt.target(h)] < 0) vertex_d2[mt.target(h)] = target_sample(mt.point(mt.target(h)), tf);
+        if (vertex_d2[mt.target(h)] < 0)
+          vertex_d2[mt.target(h)] = target_sample(mt.point(mt.target(h)), tf), vertex_near[mt.target(h)] = last_hit;
     }
     for (WF tf : mt.faces()) {
       if (!sample_target[tf]) continue;
       const WH h = mt.halfedge(tf);
       const WV x = mt.source(h), y = mt.target(h), z = mt.target(mt.next(h));
       const Point_3 &a = mt.point(x), &b = mt.point(y), &c = mt.point(z);
+      // As for M_st's faces: target faces certified within the limit of M_st need no sample.
+      {
+        using Id = typename M_tree::Primitive_id;
+        const Id nx = tris.cbegin() + vertex_near[x], ny = tris.cbegin() + vertex_near[y], nz = tris.cbegin() + vertex_near[z];
+        std::pair<Point_3, Id> hint(a, nx);
+        const Basic_distance_probe<Id> pa{a, std::sqrt(vertex_d2[x]), nx}, pb{b, std::sqrt(vertex_d2[y]), ny},
+            pc{c, std::sqrt(vertex_d2[z]), nz};
+        if (certified_within(mst_tree, [](Id i) { return *i; }, pa, pb, pc, limit, hint)) continue;
+      }
       for_each_gap_sample(longest_side(a, b, c), s.eps, limit, {vertex_d2[x], vertex_d2[y], vertex_d2[z]},
                           [&](const std::array<double, 3>& w, int) { return target_sample(barycentric_point(a, b, c, w), tf); });
     }

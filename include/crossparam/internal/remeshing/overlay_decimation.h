@@ -276,7 +276,7 @@ private:
       replaced.push_back(f);
     }
     if (needles_after > 0 && needles_after >= needles_before) return ++r.refused_needle, false;
-    // The source: each new face in an input face that held a face of the star, positively oriented there.
+    // The source: each new face in an input face that held a face of the star, oriented as that face's tiling.
     for (const auto& c : plan.faces) {
       int found = -1;
       for (WF f : star) {
@@ -386,12 +386,14 @@ private:
     return n;
   }
 
-  /// Whether corners c lie in input face o and are positively oriented there (exact): the source-shaped mesh
-  /// stays an exact copy of the source, each face with area on it. Not the orientation of the star's face: the
+  /// Whether corners c lie in input face o and are oriented there as every face tiling it is (exact;
+  /// Layout_mesh::orig_orientation: negative in its barycentric coordinates where the input is oriented
+  /// inward): the source-shaped mesh stays an exact copy of the source, each face with area on it. Not the
+  /// orientation of the star's face: the
   /// overlay can leave a face reversed or with no area on the source by rounding (a vertex computed within
   /// rounding of an edge), which a collapse may remove and must never enlarge.
   bool in_input_face(const std::array<WV, 3>& c, int o) const {
-    return s.source_orientation(o, c[0], c[1], c[2]) == CGAL::POSITIVE;
+    return s.source_orientation(o, c[0], c[1], c[2]) == s.mesh.orig_orientation[o];
   }
 
   enum class Follow { yes, far, steep };
