@@ -477,7 +477,8 @@ private:
     // edge) gets the strict repair, as the refinement's result does, but no repair that takes a face farther from
     // the target than the decimation's margin.
     const std::size_t repair_cap = 2 * o.mesh.m.number_of_vertices();
-    internal::Strict_repair_result rep = internal::strict_repair(o, repair_cap, 8, internal::decimation_margin * o.eps);
+    auto repair = [&] { return internal::strict_repair(o, repair_cap, 8, internal::decimation_margin * o.eps); };
+    internal::Strict_repair_result rep = repair();
     // The decimation certifies the distance of every face it makes; the faces the overlay made are within ε
     // where they lie in one target face, but not across a target vertex or edge it refused. The surface-distance
     // step samples both distances and adds vertices where a sample lies beyond 0.9 ε; what it adds gets the
@@ -487,7 +488,7 @@ private:
     stats_.seconds_overlay_gaps = sec(tgap, clock::now());
     stats_.overlay_gap_vertices = gaps.vertices, stats_.overlay_gap_samples_left = gaps.left;
     if (gaps.vertices > 0) {
-      const internal::Strict_repair_result again = internal::strict_repair(o, repair_cap, 8, internal::decimation_margin * o.eps);
+      const internal::Strict_repair_result again = repair();
       rep.flipped_after = again.flipped_after, rep.intersecting_after = again.intersecting_after;
       rep.splits += again.splits, rep.disks += again.disks;
     }

@@ -158,10 +158,11 @@ inline Gap_snap_result snap_surface_gaps(Remesh_state& s, unsigned max_rounds, s
         return record(i, CGAL::squared_distance(p, hit.first), b, hit.first, hit.second);
       });
     }
-    std::size_t last_hit = 0; // the M_st face nearest the last target sample
-    auto target_sample = [&](const Point_3& p, WF tf) {
+    // A sample p of target face tf: its squared distance to M_st (and in `near`, if given, the M_st face nearest it).
+    auto target_sample = [&](const Point_3& p, WF tf, std::size_t* near = nullptr) {
       const auto hit = mst_tree.closest_point_and_primitive(p);
-      const std::size_t i = last_hit = std::size_t(hit.second - tris.cbegin());
+      const std::size_t i = std::size_t(hit.second - tris.cbegin());
+      if (near) *near = i;
       const K::Triangle_3& t = tris[i];
       const double d2 = CGAL::squared_distance(p, hit.first);
       if (d2 > limit2) far_target[tf] = 1;
@@ -173,7 +174,7 @@ inline Gap_snap_result snap_surface_gaps(Remesh_state& s, unsigned max_rounds, s
       if (!sample_target[tf]) continue;
       for (WH h : CGAL::halfedges_around_face(mt.halfedge(tf), mt))
         if (vertex_d2[mt.target(h)] < 0)
-          vertex_d2[mt.target(h)] = target_sample(mt.point(mt.target(h)), tf), vertex_near[mt.target(h)] = last_hit;
+          vertex_d2[mt.target(h)] = target_sample(mt.point(mt.target(h)), tf, &vertex_near[mt.target(h)]);
     }
     for (WF tf : mt.faces()) {
       if (!sample_target[tf]) continue;

@@ -389,9 +389,8 @@ private:
   /// Whether corners c lie in input face o and are oriented there as every face tiling it is (exact;
   /// Layout_mesh::orig_orientation: negative in its barycentric coordinates where the input is oriented
   /// inward): the source-shaped mesh stays an exact copy of the source, each face with area on it. Not the
-  /// orientation of the star's face: the
-  /// overlay can leave a face reversed or with no area on the source by rounding (a vertex computed within
-  /// rounding of an edge), which a collapse may remove and must never enlarge.
+  /// orientation of the star's face: the overlay can leave a face reversed or with no area on the source by
+  /// rounding (a vertex computed within rounding of an edge), which a collapse may remove and must never enlarge.
   bool in_input_face(const std::array<WV, 3>& c, int o) const {
     return s.source_orientation(o, c[0], c[1], c[2]) == s.mesh.orig_orientation[o];
   }
