@@ -16,6 +16,7 @@
 #include <CGAL/boost/graph/generators.h>
 #include <CGAL/Polygon_mesh_processing/locate.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
+#include <CGAL/Polygon_mesh_processing/orientation.h>
 
 #include <gtest/gtest.h>
 
@@ -647,6 +648,39 @@ TEST(MultiRemesh, FaceIntersectionFiltersKeepTheExactAnswer) {
   }
   EXPECT_GT(met, 100u); // both answers are exercised
   EXPECT_GT(apart, 100u);
+}
+
+// The N-way remeshing of inputs oriented inward (as feline is among ../shared's meshes): every mesh reversed,
+// so that each remeshing's faces tile their input faces negatively in the user's corner order there
+// (Layout_mesh_data::orig_orientation). The common refinement and the output repair must read the tiling's
+// orientation from the input, not assume it: every output is valid by the strict checks against its input,
+// the common faces tile the source, and the source-shaped output keeps the source's vertices exactly.
+TEST(MultiRemesh, InputsOrientedInward) {
+  std::vector<Surface_mesh> meshes{shapes::make_deformed_sphere(81, 700, true), shapes::make_deformed_sphere(82, 600, true),
+                                   shapes::make_deformed_sphere(83, 900, false)};
+  const Feature_correspondence f1 = shapes::random_features(meshes[0], meshes[1], 8, 84, false);
+  const Feature_correspondence f2 = shapes::random_features(meshes[0], meshes[2], 8, 84, false);
+  Multi_feature_correspondence features;
+  for (std::size_t k = 0; k < f1.size(); ++k) features.push_back({f1[k].source, f1[k].target, f2[k].target});
+  for (Surface_mesh& m : meshes) CGAL::Polygon_mesh_processing::reverse_face_orientations(m);
+  constexpr double tolerance = 1.0;
+  const Multi_remesher<Surface_mesh> r(meshes, features, crossparam::parameters::tolerance(tolerance));
+  Surface_mesh out_source;
+  r.copy_to(0, out_source);
+  EXPECT_EQ(source_tiling_defects(r.source_face_locations()), 0u);
+  for (auto v : meshes[0].vertices()) {
+    const auto& q = r.points(0)[std::size_t(v)];
+    EXPECT_EQ(Point_3(q[0], q[1], q[2]), meshes[0].point(v));
+  }
+  for (std::size_t m = 1; m < 3; ++m) {
+    Surface_mesh out;
+    r.copy_to(m, out);
+    const Remeshing_verification check = verify_compatible_remeshing(meshes[0], meshes[m], out_source, out, tolerance);
+    std::cout << "[ n-way ] inward inputs, mesh " << m << ": " << out.number_of_vertices() << " vertices, Hausdorff "
+              << check.hausdorff_target << " %, " << check.flipped_faces << " flipped, " << check.new_self_intersections
+              << " new intersecting pairs; " << r.statistics().bad_faces_after_repair[m] << " bad faces after the repair\n";
+    EXPECT_TRUE(check.valid) << "mesh " << m << ": " << check.message;
+  }
 }
 
 // Three meshes to one connectivity: every output verified against its own input by the independent verifier
