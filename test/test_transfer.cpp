@@ -650,18 +650,31 @@ TEST(MultiRemesh, FaceIntersectionFiltersKeepTheExactAnswer) {
   EXPECT_GT(apart, 100u);
 }
 
+namespace {
+// Three deformed spheres and 8 random features on all three (the source's the same for both pairs): the
+// meshes of MultiRemesh.ThreeSpheres and MultiRemesh.InputsOrientedInward.
+void three_spheres(std::vector<Surface_mesh>& meshes, Multi_feature_correspondence& features) {
+  meshes = {shapes::make_deformed_sphere(81, 700, true), shapes::make_deformed_sphere(82, 600, true),
+            shapes::make_deformed_sphere(83, 900, false)};
+  const Feature_correspondence f1 = shapes::random_features(meshes[0], meshes[1], 8, 84, false);
+  const Feature_correspondence f2 = shapes::random_features(meshes[0], meshes[2], 8, 84, false);
+  features.clear();
+  for (std::size_t k = 0; k < f1.size(); ++k) {
+    ASSERT_EQ(f1[k].source, f2[k].source);
+    features.push_back({f1[k].source, f1[k].target, f2[k].target});
+  }
+}
+} // namespace
+
 // The N-way remeshing of inputs oriented inward (as feline is among ../shared's meshes): every mesh reversed,
 // so that each remeshing's faces tile their input faces negatively in the user's corner order there
 // (Layout_mesh_data::orig_orientation). The common refinement and the output repair must read the tiling's
 // orientation from the input, not assume it: every output is valid by the strict checks against its input,
 // the common faces tile the source, and the source-shaped output keeps the source's vertices exactly.
 TEST(MultiRemesh, InputsOrientedInward) {
-  std::vector<Surface_mesh> meshes{shapes::make_deformed_sphere(81, 700, true), shapes::make_deformed_sphere(82, 600, true),
-                                   shapes::make_deformed_sphere(83, 900, false)};
-  const Feature_correspondence f1 = shapes::random_features(meshes[0], meshes[1], 8, 84, false);
-  const Feature_correspondence f2 = shapes::random_features(meshes[0], meshes[2], 8, 84, false);
+  std::vector<Surface_mesh> meshes;
   Multi_feature_correspondence features;
-  for (std::size_t k = 0; k < f1.size(); ++k) features.push_back({f1[k].source, f1[k].target, f2[k].target});
+  ASSERT_NO_FATAL_FAILURE(three_spheres(meshes, features));
   for (Surface_mesh& m : meshes) CGAL::Polygon_mesh_processing::reverse_face_orientations(m);
   constexpr double tolerance = 1.0;
   const Multi_remesher<Surface_mesh> r(meshes, features, crossparam::parameters::tolerance(tolerance));
@@ -686,15 +699,9 @@ TEST(MultiRemesh, InputsOrientedInward) {
 // Three meshes to one connectivity: every output verified against its own input by the independent verifier
 // (one face list, Hausdorff within the tolerance, no flipped face), the source's vertices reproduced exactly.
 TEST(MultiRemesh, ThreeSpheres) {
-  const std::vector<Surface_mesh> meshes{shapes::make_deformed_sphere(81, 700, true), shapes::make_deformed_sphere(82, 600, true),
-                                         shapes::make_deformed_sphere(83, 900, false)};
-  const Feature_correspondence f1 = shapes::random_features(meshes[0], meshes[1], 8, 84, false);
-  const Feature_correspondence f2 = shapes::random_features(meshes[0], meshes[2], 8, 84, false);
+  std::vector<Surface_mesh> meshes;
   Multi_feature_correspondence features;
-  for (std::size_t k = 0; k < f1.size(); ++k) {
-    ASSERT_EQ(f1[k].source, f2[k].source);
-    features.push_back({f1[k].source, f1[k].target, f2[k].target});
-  }
+  ASSERT_NO_FATAL_FAILURE(three_spheres(meshes, features));
   constexpr double tolerance = 1.0;
   const Multi_remesher<Surface_mesh> r(meshes, features, crossparam::parameters::tolerance(tolerance, crossparam::parameters::progress(std::function<void(const std::string&)>([](const std::string& s) { if (std::getenv("CROSSPARAM_TEST_VERBOSE")) std::cerr << s << "\n"; }))));
   ASSERT_EQ(r.number_of_meshes(), 3u);
