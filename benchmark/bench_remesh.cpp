@@ -76,7 +76,7 @@ void run(const Remesh_case& c, double tol) {
               c.name.c_str(), tol, ns, nt, S.output_vertices, 100.0 * (double(S.output_vertices) - double(ns)) / double(ns),
               S.l2_error, v.hausdorff_target, v.flipped_faces, v.flipped_at_target_folds, v.faces_above_30, v.normal_deviation_above_30,
               v.creases_output, v.creases_target, v.self_intersections_output, v.self_intersections_target,
-              v.new_self_intersections, v.valid ? "yes" : "**no**", S.overlay_used ? "overlay" : "refinement",
+              v.new_self_intersections, v.valid ? "yes" : "**no**", !S.overlay_used ? "refinement" : S.overlay_refusing_slivers ? "overlay, second" : "overlay",
               S.seconds_cross_parameterization, S.seconds_total, total);
   std::fflush(stdout);
   if (!v.valid && std::getenv("CROSSPARAM_VERBOSE")) std::fprintf(stderr, "%s: %s\n", c.name.c_str(), v.message.c_str());

@@ -762,6 +762,28 @@ TEST(RemeshOverlay, CrossingsNearAnEndAreReportedAtThatEnd) {
   EXPECT_EQ(overlay_crossing(a, z, P2(0, -1), P2(0, 1), t), Overlay_crossing::none);
 }
 
+// The overlay's second attempt (where its first fails the strict checks) refuses flips that make a sliver on
+// the source: a face whose height is below source_sliver_height (10^-9) of its longest edge. Four vertices
+// interpolated on one line of the source, off it by rounding (10^-16), make such faces; a thin face the
+// overlay needs (10^-6 of its length: conform_snap) is not one.
+TEST(RemeshOverlay, SliversOnTheSourceAreRecognised) {
+  using crossparam::internal::source_sliver_triangle;
+  using P3 = crossparam::Point_3;
+  const P3 a(0, 0, 0), b(1, 0, 0);
+  EXPECT_FALSE(source_sliver_triangle(a, b, P3(0.5, 0.5, 0)));
+  EXPECT_FALSE(source_sliver_triangle(a, b, P3(0.3, 1e-6, 0)));
+  EXPECT_FALSE(source_sliver_triangle(a, b, P3(0.3, 0, 2e-9)));
+  EXPECT_TRUE(source_sliver_triangle(a, b, P3(0.3, 1e-16, 0)));
+  EXPECT_TRUE(source_sliver_triangle(a, b, P3(0.3, 0, 5e-10)));
+  EXPECT_TRUE(source_sliver_triangle(a, b, P3(0.3, 0, 0)));  // no area
+  EXPECT_TRUE(source_sliver_triangle(a, a, P3(0.3, 0.2, 0))); // two corners at one point
+  // Relative to the face's size (the working coordinates have a unit diagonal; faces are smaller or larger).
+  for (double k : {1e-6, 1e3}) {
+    EXPECT_FALSE(source_sliver_triangle(P3(0, 0, 0), P3(k, 0, 0), P3(0.3 * k, 1e-6 * k, 0))) << k;
+    EXPECT_TRUE(source_sliver_triangle(P3(0, 0, 0), P3(k, 0, 0), P3(0.3 * k, 1e-16 * k, 0))) << k;
+  }
+}
+
 // A pair whose map squeezes a protrusion of the target into a sliver of the base mesh: on shrec/381_385 of the
 // wider bench (wide_cases.h) the target's long protrusion at its -x end is stretched about 10^8 times by its
 // parameterization, so that its vertices are 10^-12 apart over the base mesh. There a target vertex's location

@@ -455,7 +455,8 @@ inline Remeshing_verification write_remesh(const Options& o, const Map& cp, cons
     j.member("intersecting_after", S.strict_intersecting_after).member("edge_flips", S.strict_flips);
     j.member("vertices_added", S.strict_splits).member("disks", S.strict_disks);
     j.member("passes", S.strict_rounds).member("work_bound_reached", S.strict_work_bound_reached).end_object();
-    j.key("overlay").begin_object().member("used", S.overlay_used).member("vertices", S.overlay_vertices);
+    j.key("overlay").begin_object().member("used", S.overlay_used).member("attempts", S.overlay_attempts);
+    j.member("refusing_source_slivers", S.overlay_refusing_slivers).member("vertices", S.overlay_vertices);
     j.member("refused", S.overlay_refused).member("exact", S.overlay_exact).member("along_crossed", S.overlay_along_crossed);
     j.key("refused_points").begin_array();
     for (const auto& q : in_user_units(o, S.overlay_refused_points))

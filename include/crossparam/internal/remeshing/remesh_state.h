@@ -38,6 +38,15 @@ constexpr double decimation_min_shape = 1e-6;
 /// diagonal at ε = 0.1 %) and far above that rounding.
 constexpr double decimation_min_height = 1e-6;
 
+/// Height of a face of the source-shaped mesh (twice its area over its longest edge), as a fraction of that
+/// edge, below which an edge flip that would make it is refused when the state refuses source slivers
+/// (Remesh_state::refuse_source_slivers). The exact convexity test of a flip (flip_keeps_source()) decides on
+/// barycentric coordinates computed with rounding: four vertices interpolated on one line of the source, each
+/// off it by about 10⁻¹⁶, pass it by that rounding alone and make a face of area 10⁻¹⁷ whose image's
+/// normal nothing controls. 10⁻⁹ is far above that rounding (relative 10⁻¹⁶) and far below any face the
+/// overlay needs (the thinnest it keeps elsewhere are about 10⁻⁶ of their length: conform_snap).
+constexpr double source_sliver_height = 1e-9;
+
 /// Whether triangle (a, b, d) of the target-shaped mesh is a needle: its area below decimation_min_shape times its
 /// longest edge squared, or its height below decimation_min_height ε. Its computed normal is rounding, and so
 /// are the flip and intersection tests on it (the decimation makes none; the strict repair counts one as bad).
@@ -46,6 +55,14 @@ inline bool needle_triangle(const Point_3& a, const Point_3& b, const Point_3& d
   const double n2 = triangle_normal(a, b, d).squared_length(); // |n| = 2 area = height × longest edge
   const double min_height = decimation_min_height * eps;
   return !(n2 > 0) || !(std::sqrt(n2) > 2 * decimation_min_shape * len2) || !(n2 > min_height * min_height * len2);
+}
+
+/// Whether triangle (a, b, c) of the source-shaped mesh is a sliver: its height (twice its area over its longest
+/// edge) below source_sliver_height times that edge, or no area at all. For working coordinates (unit diagonal).
+inline bool source_sliver_triangle(const Point_3& a, const Point_3& b, const Point_3& c) {
+  const double len2 = std::max({CGAL::squared_distance(a, b), CGAL::squared_distance(b, c), CGAL::squared_distance(c, a)});
+  const double n = std::sqrt(triangle_normal(a, b, c).squared_length()); // height × longest edge
+  return !(n > source_sliver_height * len2);
 }
 
 /// What stage 3 reads of a cross-parameterization: the source's working mesh and parameterization (copied
@@ -150,6 +167,9 @@ public:
   // the current repair made.
   bool repairing = false;
   int fold_slack = 0;
+  /// Whether flip_keeps_source() refuses a flip that makes a face of M_s thinner than source_sliver_height
+  /// (the overlay's second attempt where its first one fails the strict checks: Compatible_remesher).
+  bool refuse_source_slivers = false;
   mutable int fold_change = 0;
   int fold_total = 0;
   std::vector<WV> made;
@@ -494,9 +514,16 @@ public:
     if (side == CGAL::COLLINEAR || barycentric_orientation(q[1], q[0], q[3]) != side ||
         barycentric_orientation(q[0], q[3], q[2]) != side || barycentric_orientation(q[1], q[2], q[3]) != side)
       return false;
+    if (refuse_source_slivers && (source_sliver(u, y, x) || source_sliver(v, x, y))) return false;
     const Base_mesh& B = *param.base;
     return B.triangle_orientation(param[u], param[y], param[x]) == CGAL::POSITIVE &&
            B.triangle_orientation(param[v], param[x], param[y]) == CGAL::POSITIVE;
+  }
+
+  /// Whether triangle (a, b, c) of M_s is a sliver on the source (source_sliver_triangle()).
+  bool source_sliver(WV a, WV b, WV c) const {
+    const auto& m = mesh.m;
+    return source_sliver_triangle(m.point(a), m.point(b), m.point(c));
   }
 
   /// Removes face f if it is a zipper: a face of M_s whose corners lie on one line of the source (collinear in
