@@ -264,11 +264,13 @@ public:
       if (overlay_decimated_ && (overlay_bad() > 0 || stats_.overlay_gap_samples_left > 0) && !skip("the remeshing's second overlay")) {
         const Remeshing_statistics first = stats_;
         const std::size_t bad_first = overlay_bad(), left_first = stats_.overlay_gap_samples_left;
+        std::size_t cap = internal::overlay_second_growth * first.overlay_vertices;
+        if (!asked) cap = std::min(cap, internal::overlay_max_growth * stats_.layout_vertices + 1);
         o2.emplace(internal::map_view(cp), stats_.tolerance / 100.0, threads);
         o2->budget = s.budget;
         o2->refuse_source_slivers = true;
         say("remesh: the overlay fails the strict checks; again, with no flip that makes a sliver on the source");
-        const bool better_than_refined = overlay(*o2, max_dev, asked);
+        const bool better_than_refined = overlay(*o2, max_dev, asked, cap);
         const bool better_than_first = overlay_decimated_ && (overlay_bad() < bad_first ||
                                        (overlay_bad() == bad_first && stats_.overlay_gap_samples_left < left_first));
         if (better_than_first && (better_than_refined || result == &*o)) {
@@ -459,11 +461,14 @@ private:
   /// flipped by the standard rule and in new self-intersecting pairs; as many, but the refinement's left
   /// samples beyond 0.9 ε: the overlay is certified within 0.9 ε everywhere). Unless `asked`, an overlay with more than
   /// overlay_max_growth times the source's vertices is not decimated, and the refinement's result is kept.
-  bool overlay(State& o, double max_dev, bool asked) {
+  /// `max_vertices`: where the overlay would have more vertices, it is abandoned (not decimated).
+  bool overlay(State& o, double max_dev, bool asked, std::size_t max_vertices = std::size_t(-1)) {
     const auto ts = clock::now();
     overlay_decimated_ = false;
     o.measure();
-    const internal::Overlay_result made = internal::Target_overlay(o).run(std::size_t(-1));
+    const std::size_t start = o.mesh.m.number_of_vertices();
+    const internal::Overlay_result made =
+        internal::Target_overlay(o).run(max_vertices > start ? max_vertices - start : 0);
     stats_.overlay_vertices = o.mesh.m.number_of_vertices();
     stats_.overlay_refused = made.refused;
     stats_.overlay_exact = made.exact;
@@ -476,6 +481,11 @@ private:
         " refused, " + std::to_string(made.exact) + " at their own location, " + std::to_string(made.along_crossed) + " crossings nearly along), " + std::to_string(made.flips) + " edges flipped to insert target edges, " +
         std::to_string(made.delaunay_flips) + " Lawson flips" + (made.complete ? "" : ", incomplete") + " in " +
         fmt(sec(ts, clock::now())) + " s");
+    if (o.mesh.m.number_of_vertices() >= max_vertices) {
+      say("remesh: the overlay reached " + std::to_string(max_vertices) + " vertices; abandoned");
+      stats_.seconds_overlay = sec(ts, clock::now());
+      return false;
+    }
     if (!asked && o.mesh.m.number_of_vertices() > internal::overlay_max_growth * stats_.layout_vertices) {
       say("remesh: the overlay has more than " + std::to_string(internal::overlay_max_growth) +
           " times the source's vertices; not decimated (--construction overlay would)");

@@ -73,6 +73,15 @@ constexpr std::size_t overlay_walk_faces = 4096;
 /// for a source of ten thousand vertices, and the memory to about a gigabyte.
 constexpr std::size_t overlay_max_growth = 128;
 
+/// Largest ratio of the second overlay's vertices to the first's (Compatible_remesher: the overlay built again,
+/// with no flip that makes a sliver on the source, where the first fails the strict checks). The second splits
+/// where the first flipped on rounding; where many target edges pass through nearly one point of the source
+/// those splits come in clusters whose count grows with the square of the edges through them, and so do the
+/// construction's and the decimation's time (shrec/382_385: past 1.6 GB and ten minutes of construction where
+/// the first took 18 s). eiffel_g4's second overlay at 1 % has 1.65 times the first's vertices; beyond twice,
+/// the second is abandoned and the first kept.
+constexpr std::size_t overlay_second_growth = 2;
+
 /// Bound on the passes of flips that make a target edge a chain of edges of M_s (Target_overlay::run()). A pass
 /// flips every edge the target edge crosses whose two faces allow it; an edge whose quadrilateral is concave
 /// waits for a neighbour's flip. The passes end when one flips nothing; the bound only caps the time where
@@ -273,7 +282,7 @@ public:
           if (std::find(chain.begin(), chain.end(), w) != chain.end()) on_target.insert(key(u, w));
     }
     r.along_crossed = along_crossed_;
-    r.delaunay_flips = delaunay(on_target);
+    if (r.made.size() < max_new) r.delaunay_flips = delaunay(on_target); // an overlay cut short is abandoned
     s.fold_slack = slack;
     r.complete = skipped == 0 && r.refused == 0 && r.made.size() < max_new;
     return r;
