@@ -79,7 +79,13 @@ void run(const Remesh_case& c, double tol) {
               v.new_self_intersections, v.valid ? "yes" : "**no**", !S.overlay_used ? "refinement" : S.overlay_refusing_slivers ? "overlay, second" : "overlay",
               S.seconds_cross_parameterization, S.seconds_total, total);
   std::fflush(stdout);
-  if (!v.valid && std::getenv("CROSSPARAM_VERBOSE")) std::fprintf(stderr, "%s: %s\n", c.name.c_str(), v.message.c_str());
+  if (!v.valid && std::getenv("CROSSPARAM_VERBOSE")) {
+    std::fprintf(stderr, "%s: %s\n", c.name.c_str(), v.message.c_str());
+    // Where the overlay refused inserts and splits (the places an invalid output's defects usually lie beside).
+    const auto& q = S.overlay_refused_points;
+    for (std::size_t i = 0; i < q.size() && i < 40; ++i)
+      std::fprintf(stderr, "%s: overlay refused at (%.6g, %.6g, %.6g)\n", c.name.c_str(), q[i][0], q[i][1], q[i][2]);
+  }
 }
 
 std::vector<double> parse_tolerances(const std::string& list) {
