@@ -74,8 +74,7 @@ bool certified_within(const Tree& tree, const Triangle_of& near, const Basic_dis
         CGAL::squared_distance(c.p, T) <= limit2)
       return true;
   }
-  const double longest =
-      std::sqrt(std::max({CGAL::squared_distance(a.p, b.p), CGAL::squared_distance(b.p, c.p), CGAL::squared_distance(c.p, a.p)}));
+  const double longest = longest_side(a.p, b.p, c.p);
   if (std::max({a.d, b.d, c.d}) + longest / std::sqrt(3.0) <= limit) return true;
   if (depth == certificate_depth) return false;
   const auto ab = probe(tree, CGAL::midpoint(a.p, b.p), hint), bc = probe(tree, CGAL::midpoint(b.p, c.p), hint),

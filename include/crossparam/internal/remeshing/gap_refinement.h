@@ -61,10 +61,6 @@ void for_each_gap_sample(double length, double eps, double limit, const std::arr
   if (std::sqrt(grid(2, corners)) + length / (2 * std::sqrt(3.0)) <= limit) return;
   grid(std::max(4, std::min(gap_max_subdivision, int(std::ceil(2 * length / eps)))), corners);
 }
-/// The longest edge length of triangle (a, b, c).
-inline double longest_side(const Point_3& a, const Point_3& b, const Point_3& c) {
-  return std::sqrt(std::max({CGAL::squared_distance(a, b), CGAL::squared_distance(b, c), CGAL::squared_distance(c, a)}));
-}
 
 /// What snap_surface_gaps() did.
 struct Gap_snap_result {

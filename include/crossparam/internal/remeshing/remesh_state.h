@@ -47,11 +47,19 @@ constexpr double decimation_min_height = 1e-6;
 /// overlay needs (the thinnest it keeps elsewhere are about 10⁻⁶ of their length: conform_snap).
 constexpr double source_sliver_height = 1e-9;
 
+/// The squared length of the longest edge of triangle (a, b, c), and that length.
+inline double longest_side_squared(const Point_3& a, const Point_3& b, const Point_3& c) {
+  return std::max({CGAL::squared_distance(a, b), CGAL::squared_distance(b, c), CGAL::squared_distance(c, a)});
+}
+inline double longest_side(const Point_3& a, const Point_3& b, const Point_3& c) {
+  return std::sqrt(longest_side_squared(a, b, c));
+}
+
 /// Whether triangle (a, b, d) of the target-shaped mesh is a needle: its area below decimation_min_shape times its
 /// longest edge squared, or its height below decimation_min_height ε. Its computed normal is rounding, and so
 /// are the flip and intersection tests on it (the decimation makes none; the strict repair counts one as bad).
 inline bool needle_triangle(const Point_3& a, const Point_3& b, const Point_3& d, double eps) {
-  const double len2 = std::max({CGAL::squared_distance(a, b), CGAL::squared_distance(b, d), CGAL::squared_distance(d, a)});
+  const double len2 = longest_side_squared(a, b, d);
   const double n2 = triangle_normal(a, b, d).squared_length(); // |n| = 2 area = height × longest edge
   const double min_height = decimation_min_height * eps;
   return !(n2 > 0) || !(std::sqrt(n2) > 2 * decimation_min_shape * len2) || !(n2 > min_height * min_height * len2);
@@ -60,7 +68,7 @@ inline bool needle_triangle(const Point_3& a, const Point_3& b, const Point_3& d
 /// Whether triangle (a, b, c) of the source-shaped mesh is a sliver: its height (twice its area over its longest
 /// edge) below source_sliver_height times that edge, or no area at all. For working coordinates (unit diagonal).
 inline bool source_sliver_triangle(const Point_3& a, const Point_3& b, const Point_3& c) {
-  const double len2 = std::max({CGAL::squared_distance(a, b), CGAL::squared_distance(b, c), CGAL::squared_distance(c, a)});
+  const double len2 = longest_side_squared(a, b, c);
   const double n = std::sqrt(triangle_normal(a, b, c).squared_length()); // height × longest edge
   return !(n > source_sliver_height * len2);
 }
