@@ -209,6 +209,11 @@ done
 printf '0 0\n1 4\n2 2\n3 5\n' >"$work/f4to.txt"
 expect_code failed-verification 4 "failed its independent verification" -- remesh "$work/tetra.off" "$work/octa.off" --features "$work/f4to.txt" -o "$work/strict" --tolerance 0.001 --quiet
 [ -s "$work/strict/report.json" ] && grep -q '"valid": false' "$work/strict/report.json" || bad "failed verification: no report of it"
+# A remeshing that fails the checks is done again with the map smoothing; here that fails too, and the first is kept.
+grep -q '"map_smoothing_retry": {"tried": true, "kept": false' "$work/strict/report.json" || bad "failed verification: no second attempt reported"
+grep -q '"map_smoothing_retry": {"tried": false' "$work/small_octahedron/report.json" || bad "remesh: a second attempt where the first is valid"
+expect_code no-retry 4 "failed its independent verification" -- remesh "$work/tetra.off" "$work/octa.off" --features "$work/f4to.txt" -o "$work/strict3" --tolerance 0.001 --no-map-smoothing-retry --quiet
+grep -q '"map_smoothing_retry": {"tried": false' "$work/strict3/report.json" || bad "--no-map-smoothing-retry: a second attempt"
 expect_code failed-verification-best-effort 0 "best-effort" -- remesh "$work/tetra.off" "$work/octa.off" --features "$work/f4to.txt" -o "$work/strict2" --tolerance 0.001 --best-effort --quiet
 # The demo's pair (written by the demo above) for the time limit and the decimated overlay.
 if [ -s "$work/demo/source.off" ]; then

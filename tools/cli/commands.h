@@ -169,9 +169,39 @@ inline int run_remesh(const Options& user) {
   Inputs in = read_inputs(o);
   normalize_units(o, in.source.mesh, in.target.mesh);
   const Surface_mesh source0 = in.source.mesh, target0 = in.target.mesh; // the map refines its inputs
+  Timer first;
   Map cp = cross_parameterize(o, in.source.mesh, in.target.mesh, in.features);
   const Remesher r = remesh(o, cp);
-  const Remeshing_verification check = write_remesh(o, cp, r, source0, target0, in.seconds);
+  const Checked_remeshing checked = verify_remesh(o, r, source0, target0);
+  Map_smoothing_retry retry;
+  if (!checked.check.valid && o.smoothing && !o.map_smoothing && o.map_smoothing_retry) {
+    // A map that squeezes a part of the target into a sliver of the source leaves the overlay faces it cannot
+    // make exact; the map smoothed as a map spreads that part (doc/algorithms.md, "A map smoothed where the
+    // remeshing fails"). The second result is kept if it passes the checks.
+    retry.tried = true;
+    retry.first_message = checked.check.message;
+    retry.first_seconds = first.seconds();
+    if (!o.quiet)
+      std::cerr << "crossparam: the remeshing fails the strict checks (" << checked.check.message
+                << "); again with the map smoothed as a map (--map-smoothing; --no-map-smoothing-retry skips this)\n";
+    Options o2 = o;
+    o2.map_smoothing = true;
+    try {
+      Surface_mesh s2 = source0, t2 = target0;
+      const Map cp2 = cross_parameterize(o2, s2, t2, in.features);
+      const Remesher r2 = remesh(o2, cp2);
+      const Checked_remeshing checked2 = verify_remesh(o2, r2, source0, target0);
+      if (checked2.check.valid) {
+        retry.kept = true;
+        write_remesh(o2, cp2, r2, checked2, in.seconds, retry);
+        out.commit();
+        return 0;
+      }
+    } catch (const crossparam::Error& e) { // out of time, or the smoothed map failed: the first result stands
+      if (!o.quiet) std::cerr << "crossparam: the second attempt stopped (" << e.what() << ")\n";
+    }
+  }
+  const Remeshing_verification check = write_remesh(o, cp, r, checked, in.seconds, retry);
   out.commit();
   return check.valid ? 0 : failed_verification(o, check.message);
 }
@@ -237,7 +267,7 @@ inline int run_demo(const Options& user) {
   write_layout(o, a, b, cp.layout(), {{"generate", gen_s}});
   write_map(o, cp, gen_s);
   const Remesher r = remesh(o, cp);
-  const Remeshing_verification check = write_remesh(o, cp, r, a0, b0, gen_s);
+  const Remeshing_verification check = write_remesh(o, cp, r, verify_remesh(o, r, a0, b0), gen_s);
   // As `morph`, on the two compatible meshes.
   Polygon_soup sa, sb;
   sa.points = in_user_units(o, r.source_points());

@@ -62,6 +62,9 @@ inline const char* const usage_text =
     "                    (the source's vertices move so that their images average their neighbours' on the\n"
     "                    target; on the wider bench a more accurate map on average, at about 2.5 times the\n"
     "                    map's time)\n"
+    "  --no-map-smoothing-retry\n"
+    "                    remesh: where the remeshing fails the strict checks, do not map and remesh again\n"
+    "                    with the map smoothing (by default that is tried, and its result kept if it passes)\n"
     "  --no-protrusion-features\n"
     "                    use only the given features (map, remesh, demo): no pairs added at the tips of\n"
     "                    squeezed protrusions\n"
@@ -119,6 +122,7 @@ struct Options {
   bool png = false;
   bool smoothing = true;
   bool map_smoothing = false;
+  bool map_smoothing_retry = true; ///< remesh: again with the map smoothing where the remeshing fails the checks
   bool protrusion_features = true;
   bool extremity_features = true;  ///< look for pairs at extremities
   bool select_extremities = true;  ///< keep them only if they lower the worst descriptor mismatch
@@ -202,6 +206,7 @@ inline Options parse(int argc, char** argv) {
     else if (a == "--png") o.png = true;
     else if (a == "--no-smoothing") o.smoothing = false;
     else if (a == "--map-smoothing") o.map_smoothing = true;
+    else if (a == "--no-map-smoothing-retry") o.map_smoothing_retry = false;
     else if (a == "--no-protrusion-features") o.protrusion_features = false;
     else if (a == "--extremity-features") o.extremity_features = true, o.select_extremities = false;
     else if (a == "--no-extremity-features") o.extremity_features = false;

@@ -395,11 +395,25 @@ inline void print_remesh_summary(const Options& o, const Remeshing_statistics& S
             << "\n";
 }
 
-/// Writes the outputs of `remesh` (and the demo's remeshing) and report.json, with the independent
-/// verification of the outputs against the inputs as they were before the map refined them (`source0`,
-/// `target0`). `read_s` is the time to read (or generate) the inputs.
-inline Remeshing_verification write_remesh(const Options& o, const Map& cp, const Remesher& r,
-                                           const Surface_mesh& source0, const Surface_mesh& target0, double read_s) {
+/// A remeshing's independent verification (verify_remesh()).
+struct Checked_remeshing {
+  Remeshing_verification check;
+  std::size_t tiling = 0; ///< faces that do not tile their face of the source (source_tiling_defects())
+  double seconds = 0;
+};
+
+/// A remeshing that failed the strict checks and was done again with the map smoothed as a map (`remesh`
+/// without --map-smoothing): what the first attempt found and its time.
+struct Map_smoothing_retry {
+  bool tried = false, kept = false;
+  std::string first_message; ///< the first attempt's verification message
+  double first_seconds = 0;  ///< the first attempt's map, remeshing and verification
+};
+
+/// The independent verification of a remeshing's outputs against the inputs as they were before the map
+/// refined them (`source0`, `target0`), with the source side's tiling defects, and its time.
+inline Checked_remeshing verify_remesh(const Options& o, const Remesher& r, const Surface_mesh& source0,
+                                       const Surface_mesh& target0) {
   Timer tv;
   Surface_mesh out_source, out_target;
   r.copy_to(Mesh_side::source, out_source);
@@ -422,7 +436,18 @@ inline Remeshing_verification write_remesh(const Options& o, const Map& cp, cons
                      "small for its exact tests in double precision), the first at (" + format_number(p.x()) + ", " +
                      format_number(p.y()) + ", " + format_number(p.z()) + ") on the target";
   }
-  const double verify_s = tv.seconds();
+  return {check, tiling, tv.seconds()};
+}
+
+/// Writes the outputs of `remesh` (and the demo's remeshing) and report.json, with the verification `checked`
+/// of verify_remesh(). `read_s` is the time to read (or generate) the inputs; `retry`, what a first attempt
+/// that failed the strict checks found (`remesh` only).
+inline Remeshing_verification write_remesh(const Options& o, const Map& cp, const Remesher& r, const Checked_remeshing& checked,
+                                           double read_s, const Map_smoothing_retry& retry = {}) {
+  const Remeshing_verification& check = checked.check;
+  const std::size_t tiling = checked.tiling;
+  const double verify_s = checked.seconds;
+  const Remeshing_statistics& S = r.statistics();
   fs::create_directories(write_folder(o));
   const std::vector<std::array<double, 3>> source_points = in_user_units(o, r.source_points());
   const std::vector<std::array<double, 3>> target_points = in_user_units(o, r.target_points());
@@ -477,6 +502,8 @@ inline Remeshing_verification write_remesh(const Options& o, const Map& cp, cons
     j.member("converged", S.converged);
     j.member("flipped_faces", S.flipped_faces);
     j.member("certificate", r.certificate().valid);
+    j.key("map_smoothing_retry").begin_object().member("tried", retry.tried).member("kept", retry.kept);
+    j.member("first_message", retry.first_message).member("first_seconds", retry.first_seconds).end_object();
     j.key("verification").begin_object().member("valid", check.valid).member("compatible", check.compatible);
     j.member("hausdorff_percent", check.hausdorff_target).member("hausdorff_source_percent", check.hausdorff_source);
     j.member("source_tiling_defects", tiling);
