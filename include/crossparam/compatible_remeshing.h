@@ -249,39 +249,8 @@ public:
     // sample of either surface left beyond 0.9 ε of the other (gap_refinement.h).
     const bool strict_ok = stats_.strict_flipped_after + stats_.strict_intersecting_after == 0 && stats_.gap_samples_left == 0;
     if (construction == Remeshing_construction::overlay ||
-        (construction == Remeshing_construction::automatic && !strict_ok && !skip("the remeshing's overlay"))) {
-      const bool asked = construction == Remeshing_construction::overlay;
-      o.emplace(internal::map_view(cp), stats_.tolerance / 100.0, threads);
-      o->budget = s.budget;
-      stats_.overlay_attempts = 1;
-      if (overlay(*o, max_dev, asked) || asked) result = &*o, stats_.overlay_used = true;
-      // Where the decimated overlay still fails the strict checks, a second overlay whose flips make no sliver
-      // on the source (Remesh_state::refuse_source_slivers): a flip the exact test allows on rounding alone
-      // makes a face of no area there whose image's normal nothing controls, and a target vertex refused
-      // beside it leaves that face flipped. Refusing those flips everywhere would cost where nothing fails
-      // (the insertion splits instead: shrec/381_384's overlay grows from 261,000 to 684,000 vertices), so
-      // only a failed overlay is built again; the better of the two is kept.
-      if (overlay_decimated_ && (overlay_bad() > 0 || stats_.overlay_gap_samples_left > 0) && !skip("the remeshing's second overlay")) {
-        const Remeshing_statistics first = stats_;
-        const std::size_t bad_first = overlay_bad(), left_first = stats_.overlay_gap_samples_left;
-        std::size_t cap = internal::overlay_second_growth * first.overlay_vertices;
-        if (!asked) cap = std::min(cap, internal::overlay_max_growth * stats_.layout_vertices + 1);
-        o2.emplace(internal::map_view(cp), stats_.tolerance / 100.0, threads);
-        o2->budget = s.budget;
-        o2->refuse_source_slivers = true;
-        say("remesh: the overlay fails the strict checks; again, with no flip that makes a sliver on the source");
-        const bool better_than_refined = overlay(*o2, max_dev, asked, cap);
-        const bool better_than_first = overlay_decimated_ && (overlay_bad() < bad_first ||
-                                       (overlay_bad() == bad_first && stats_.overlay_gap_samples_left < left_first));
-        if (better_than_first && (better_than_refined || result == &*o)) {
-          result = &*o2, stats_.overlay_used = true, stats_.overlay_refusing_slivers = true;
-          o.reset();
-        } else {
-          stats_ = first;
-        }
-        stats_.overlay_attempts = 2;
-      }
-    }
+        (construction == Remeshing_construction::automatic && !strict_ok && !skip("the remeshing's overlay")))
+      result = overlay_construction(s, cp, o, o2, max_dev, construction == Remeshing_construction::overlay, threads);
     if (s.budget.expired()) say("remesh: time limit reached (best effort): the steps left are skipped");
     certify(*result);                                // the parameterization is still one-to-one
     finish(*result, cp.statistics().seconds_total, t0);
@@ -454,17 +423,62 @@ private:
         std::to_string(r.rounds) + " rounds" + (r.work_bound_reached ? " (stopped at its work bound)" : ""));
   }
 
+  /// The decimated overlay (overlay()) in `o`, built on a fresh copy of the map's source; where it still fails
+  /// the strict checks, a second one in `o2` whose flips make no sliver on the source
+  /// (Remesh_state::refuse_source_slivers): a flip the exact test allows on rounding alone makes a face of no
+  /// area there whose image's normal nothing controls, and a target vertex refused beside it leaves that face
+  /// flipped. Refusing those flips everywhere would cost where nothing fails (the insertion splits instead:
+  /// shrec/381_384's overlay grows from 261,000 to 684,000 vertices), so only a failed overlay is built again;
+  /// the better of the two is kept. Returns the state whose result is kept: `refined` (the refinement's, unless
+  /// `asked`) or one of the two overlays.
+  State* overlay_construction(State& refined, const Cross_param& cp, std::optional<State>& o, std::optional<State>& o2,
+                              double max_dev, bool asked, unsigned threads) {
+    State* result = &refined;
+    o.emplace(internal::map_view(cp), stats_.tolerance / 100.0, threads);
+    o->budget = refined.budget;
+    stats_.overlay_attempts = 1;
+    const Overlay_outcome first_outcome = overlay(*o, max_dev, asked);
+    if (first_outcome.better_than_refined || asked) result = &*o, stats_.overlay_used = true;
+    if (!first_outcome.decimated || (overlay_bad() == 0 && stats_.overlay_gap_samples_left == 0) ||
+        refined.budget.stop("the remeshing's second overlay", [] { return std::string("not started"); }))
+      return result;
+    const Remeshing_statistics first = stats_;
+    const std::size_t bad_first = overlay_bad(), left_first = stats_.overlay_gap_samples_left;
+    std::size_t cap = internal::overlay_second_growth * first.overlay_vertices;
+    if (!asked) cap = std::min(cap, internal::overlay_max_growth * stats_.layout_vertices + 1);
+    o2.emplace(internal::map_view(cp), stats_.tolerance / 100.0, threads);
+    o2->budget = refined.budget;
+    o2->refuse_source_slivers = true;
+    say("remesh: the overlay fails the strict checks; again, with no flip that makes a sliver on the source");
+    const Overlay_outcome second = overlay(*o2, max_dev, asked, cap);
+    const bool better_than_first = second.decimated && (overlay_bad() < bad_first ||
+                                   (overlay_bad() == bad_first && stats_.overlay_gap_samples_left < left_first));
+    if (better_than_first && (second.better_than_refined || result == &*o)) {
+      result = &*o2, stats_.overlay_used = true, stats_.overlay_refusing_slivers = true;
+      o.reset();
+    } else {
+      stats_ = first;
+    }
+    stats_.overlay_attempts = 2;
+    return result;
+  }
+
+  /// What overlay() made of an overlay.
+  struct Overlay_outcome {
+    bool decimated = false;           ///< whether it was decimated (its strict figures are then in stats_)
+    bool better_than_refined = false; ///< whether it fails fewer strict checks than the refinement's result
+  };
+
   /// The overlay construction (an addition to the paper): the map's overlay with the target on a fresh copy of
   /// the source (internal/remeshing/overlay.h), decimated within the tolerance by collapses that keep the strict
   /// checks (internal/remeshing/overlay_decimation.h), then the strict repair for what the overlay could not
-  /// make exact. Returns whether the result fails fewer of the strict checks than the refinement's (faces
-  /// flipped by the standard rule and in new self-intersecting pairs; as many, but the refinement's left
-  /// samples beyond 0.9 ε: the overlay is certified within 0.9 ε everywhere). Unless `asked`, an overlay with more than
+  /// make exact. Returns whether it was decimated and whether the result fails fewer of the strict checks than
+  /// the refinement's (faces flipped by the standard rule and in new self-intersecting pairs; as many, but the
+  /// refinement's left samples beyond 0.9 ε: the overlay is certified within 0.9 ε everywhere). Unless `asked`, an overlay with more than
   /// overlay_max_growth times the source's vertices is not decimated, and the refinement's result is kept.
   /// `max_vertices`: where the overlay would have more vertices, it is abandoned (not decimated).
-  bool overlay(State& o, double max_dev, bool asked, std::size_t max_vertices = std::size_t(-1)) {
+  Overlay_outcome overlay(State& o, double max_dev, bool asked, std::size_t max_vertices = std::size_t(-1)) {
     const auto ts = clock::now();
-    overlay_decimated_ = false;
     o.measure();
     const std::size_t start = o.mesh.m.number_of_vertices();
     const internal::Overlay_result made =
@@ -484,15 +498,14 @@ private:
     if (o.mesh.m.number_of_vertices() >= max_vertices) {
       say("remesh: the overlay reached " + std::to_string(max_vertices) + " vertices; abandoned");
       stats_.seconds_overlay = sec(ts, clock::now());
-      return false;
+      return {};
     }
     if (!asked && o.mesh.m.number_of_vertices() > internal::overlay_max_growth * stats_.layout_vertices) {
       say("remesh: the overlay has more than " + std::to_string(internal::overlay_max_growth) +
           " times the source's vertices; not decimated (--construction overlay would)");
       stats_.seconds_overlay = sec(ts, clock::now());
-      return false;
+      return {};
     }
-    overlay_decimated_ = true;
     const internal::Decimation_result d =
         internal::Overlay_decimator(o, max_dev, o.mesh.n_original_vertices).run();
     internal::compact(o);
@@ -557,7 +570,7 @@ private:
         (gaps.left ? ", " + std::to_string(gaps.left) + " samples still beyond 0.9 ε" : "") + "; " +
         fmt(stats_.seconds_overlay) + " s in all");
     const std::size_t bad = flipped + intersecting, bad_refined = stats_.strict_flipped_after + stats_.strict_intersecting_after;
-    return bad < bad_refined || (bad == bad_refined && gaps.left < stats_.gap_samples_left);
+    return {true, bad < bad_refined || (bad == bad_refined && gaps.left < stats_.gap_samples_left)};
   }
 
   /// Folds left (additions to the paper): untangled on the target, off F, which adds no vertex; where that
@@ -664,7 +677,6 @@ private:
   internal::Remesh_outputs out_;
   Bijectivity_certificate cert_;
   Remeshing_statistics stats_;
-  bool overlay_decimated_ = false; ///< whether the last overlay() decimated its overlay (its strict figures are set)
   /// The last decimated overlay's faces flipped and in new self-intersecting pairs after its strict repair.
   std::size_t overlay_bad() const { return stats_.overlay_flipped + stats_.overlay_intersecting; }
 };
