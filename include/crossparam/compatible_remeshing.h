@@ -240,7 +240,13 @@ public:
       if (max_dev < 180 && !skip("the remeshing's pseudo flips")) pseudo_flip(s, max_dev); // §5.4
       if (!skip("the remeshing's untangling")) untangle(s); // folds left (additions to the paper)
       if (!skip("the remeshing's surface-distance step")) close_gaps(s); // the distance the verifier measures
-      if (!skip("the remeshing's strict repair")) strict_repair(s);        // the verifier's flip and intersection tests
+      // Samples left beyond 0.9 ε: the refinement's result is not valid whatever the strict repair does (it
+      // refines only at flipped and intersecting faces), and the automatic construction builds the overlay in any
+      // case. The strict repair of the refinement's result, the costliest step where the map is hard (more than
+      // twenty minutes on shrec/381_384), then waits: it runs only where the overlay's result is not strictly
+      // valid, to keep the better of the two as before (the outputs are those of the other order).
+      refined_repair_pending_ = construction == Remeshing_construction::automatic && stats_.gap_samples_left > 0;
+      if (!refined_repair_pending_ && !skip("the remeshing's strict repair")) strict_repair(s); // the verifier's flip and intersection tests
     }
     // The decimated overlay, instead of the refinement or where the refinement's result fails the checks.
     State* result = &s;
@@ -251,6 +257,18 @@ public:
     if (construction == Remeshing_construction::overlay ||
         (construction == Remeshing_construction::automatic && !strict_ok && !skip("the remeshing's overlay")))
       result = overlay_construction(s, cp, o, o2, max_dev, construction == Remeshing_construction::overlay, threads);
+    if (refined_repair_pending_) {
+      refined_repair_pending_ = false;
+      const bool overlay_valid = result != &s && overlay_bad() == 0 && stats_.overlay_gap_samples_left == 0;
+      if (!overlay_valid && !skip("the remeshing's strict repair")) {
+        say("remesh: the overlay fails the strict checks; the refinement's result gets its strict repair");
+        strict_repair(s);
+        if (result != &s && !overlay_beats_refined()) {
+          result = &s, stats_.overlay_used = false, stats_.overlay_refusing_slivers = false;
+          o.reset(), o2.reset();
+        }
+      }
+    }
     if (s.budget.expired()) say("remesh: time limit reached (best effort): the steps left are skipped");
     certify(*result);                                // the parameterization is still one-to-one
     finish(*result, cp.statistics().seconds_total, t0);
@@ -569,8 +587,7 @@ private:
         std::to_string(gaps.vertices) + " vertices added in " + fmt(stats_.seconds_overlay_gaps) + " s" +
         (gaps.left ? ", " + std::to_string(gaps.left) + " samples still beyond 0.9 ε" : "") + "; " +
         fmt(stats_.seconds_overlay) + " s in all");
-    const std::size_t bad = flipped + intersecting, bad_refined = stats_.strict_flipped_after + stats_.strict_intersecting_after;
-    return {true, bad < bad_refined || (bad == bad_refined && gaps.left < stats_.gap_samples_left)};
+    return {true, refined_repair_pending_ || overlay_beats_refined()};
   }
 
   /// Folds left (additions to the paper): untangled on the target, off F, which adds no vertex; where that
@@ -679,6 +696,15 @@ private:
   Remeshing_statistics stats_;
   /// The last decimated overlay's faces flipped and in new self-intersecting pairs after its strict repair.
   std::size_t overlay_bad() const { return stats_.overlay_flipped + stats_.overlay_intersecting; }
+  /// Whether the last decimated overlay fails fewer strict checks than the refinement's result after its strict
+  /// repair: fewer flipped and intersecting faces, or as many and fewer samples left beyond 0.9 ε.
+  bool overlay_beats_refined() const {
+    const std::size_t refined = stats_.strict_flipped_after + stats_.strict_intersecting_after;
+    return overlay_bad() < refined || (overlay_bad() == refined && stats_.overlay_gap_samples_left < stats_.gap_samples_left);
+  }
+  /// The refinement's strict repair waits for the overlay (automatic construction, samples left beyond 0.9 ε):
+  /// until it has run, the refinement's result counts as failing every check.
+  bool refined_repair_pending_ = false;
 };
 
 /// \brief One-shot compatible remeshing: cross-parameterizes `source` and `target` (§3-4; the meshes are
