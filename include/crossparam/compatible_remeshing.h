@@ -235,6 +235,7 @@ public:
     project(s, undo);                                // M_st, the source's connectivity on the target (§5.1)
     // Out of time, each step left throws Time_limit_error, or with best effort is skipped.
     auto skip = [&s](const char* stage) { return s.budget.stop(stage, [] { return std::string("not started"); }); };
+    bool repair_pending = false; // the refinement's strict repair waits for the overlay (below)
     if (construction != Remeshing_construction::overlay) {
       smooth_and_refine(s, weights, rule, max_rounds); // §5.2-5.3
       if (max_dev < 180 && !skip("the remeshing's pseudo flips")) pseudo_flip(s, max_dev); // §5.4
@@ -245,8 +246,8 @@ public:
       // case. The strict repair of the refinement's result, the costliest step where the map is hard (more than
       // twenty minutes on shrec/381_384), then waits: it runs only where the overlay's result is not strictly
       // valid, to keep the better of the two as before (the outputs are those of the other order).
-      refined_repair_pending_ = construction == Remeshing_construction::automatic && stats_.gap_samples_left > 0;
-      if (!refined_repair_pending_ && !skip("the remeshing's strict repair")) strict_repair(s); // the verifier's flip and intersection tests
+      repair_pending = construction == Remeshing_construction::automatic && stats_.gap_samples_left > 0;
+      if (!repair_pending && !skip("the remeshing's strict repair")) strict_repair(s); // the verifier's flip and intersection tests
     }
     // The decimated overlay, instead of the refinement or where the refinement's result fails the checks.
     State* result = &s;
@@ -256,9 +257,9 @@ public:
     const bool strict_ok = stats_.strict_flipped_after + stats_.strict_intersecting_after == 0 && stats_.gap_samples_left == 0;
     if (construction == Remeshing_construction::overlay ||
         (construction == Remeshing_construction::automatic && !strict_ok && !skip("the remeshing's overlay")))
-      result = overlay_construction(s, cp, o, o2, max_dev, construction == Remeshing_construction::overlay, threads);
-    if (refined_repair_pending_) {
-      refined_repair_pending_ = false;
+      result = overlay_construction(s, cp, o, o2, max_dev, construction == Remeshing_construction::overlay, threads,
+                                    repair_pending);
+    if (repair_pending) {
       const bool overlay_valid = result != &s && overlay_bad() == 0 && stats_.overlay_gap_samples_left == 0;
       if (!overlay_valid && !skip("the remeshing's strict repair")) {
         say("remesh: the overlay fails the strict checks; the refinement's result gets its strict repair");
@@ -448,16 +449,19 @@ private:
   /// flipped. Refusing those flips everywhere would cost where nothing fails (the insertion splits instead:
   /// shrec/381_384's overlay grows from 261,000 to 684,000 vertices), so only a failed overlay is built again;
   /// the better of the two is kept. Returns the state whose result is kept: `refined` (the refinement's, unless
-  /// `asked`) or one of the two overlays.
+  /// `asked`) or one of the two overlays. `refined_pending`: the refinement's strict repair has not run yet, and
+  /// its result counts as failing every check.
   State* overlay_construction(State& refined, const Cross_param& cp, std::optional<State>& o, std::optional<State>& o2,
-                              double max_dev, bool asked, unsigned threads) {
+                              double max_dev, bool asked, unsigned threads, bool refined_pending) {
+    // Whether the overlay just decimated fails fewer strict checks than the refinement's result.
+    auto beats_refined = [&] { return refined_pending || overlay_beats_refined(); };
     State* result = &refined;
     o.emplace(internal::map_view(cp), stats_.tolerance / 100.0, threads);
     o->budget = refined.budget;
     stats_.overlay_attempts = 1;
-    const Overlay_outcome first_outcome = overlay(*o, max_dev, asked);
-    if (first_outcome.better_than_refined || asked) result = &*o, stats_.overlay_used = true;
-    if (!first_outcome.decimated || (overlay_bad() == 0 && stats_.overlay_gap_samples_left == 0) ||
+    const bool first_decimated = overlay(*o, max_dev, asked);
+    if ((first_decimated && beats_refined()) || asked) result = &*o, stats_.overlay_used = true;
+    if (!first_decimated || (overlay_bad() == 0 && stats_.overlay_gap_samples_left == 0) ||
         refined.budget.stop("the remeshing's second overlay", [] { return std::string("not started"); }))
       return result;
     const Remeshing_statistics first = stats_;
@@ -468,10 +472,10 @@ private:
     o2->budget = refined.budget;
     o2->refuse_source_slivers = true;
     say("remesh: the overlay fails the strict checks; again, with no flip that makes a sliver on the source");
-    const Overlay_outcome second = overlay(*o2, max_dev, asked, cap);
-    const bool better_than_first = second.decimated && (overlay_bad() < bad_first ||
+    const bool second_decimated = overlay(*o2, max_dev, asked, cap);
+    const bool better_than_first = second_decimated && (overlay_bad() < bad_first ||
                                    (overlay_bad() == bad_first && stats_.overlay_gap_samples_left < left_first));
-    if (better_than_first && (second.better_than_refined || result == &*o)) {
+    if (better_than_first && (beats_refined() || result == &*o)) {
       result = &*o2, stats_.overlay_used = true, stats_.overlay_refusing_slivers = true;
       o.reset();
     } else {
@@ -481,21 +485,14 @@ private:
     return result;
   }
 
-  /// What overlay() made of an overlay.
-  struct Overlay_outcome {
-    bool decimated = false;           ///< whether it was decimated (its strict figures are then in stats_)
-    bool better_than_refined = false; ///< whether it fails fewer strict checks than the refinement's result
-  };
-
   /// The overlay construction (an addition to the paper): the map's overlay with the target on a fresh copy of
   /// the source (internal/remeshing/overlay.h), decimated within the tolerance by collapses that keep the strict
   /// checks (internal/remeshing/overlay_decimation.h), then the strict repair for what the overlay could not
-  /// make exact. Returns whether it was decimated and whether the result fails fewer of the strict checks than
-  /// the refinement's (faces flipped by the standard rule and in new self-intersecting pairs; as many, but the
-  /// refinement's left samples beyond 0.9 ε: the overlay is certified within 0.9 ε everywhere). Unless `asked`, an overlay with more than
+  /// make exact. Returns whether it was decimated; its strict figures are then in the statistics
+  /// (overlay_bad(), overlay_beats_refined()). Unless `asked`, an overlay with more than
   /// overlay_max_growth times the source's vertices is not decimated, and the refinement's result is kept.
   /// `max_vertices`: where the overlay would have more vertices, it is abandoned (not decimated).
-  Overlay_outcome overlay(State& o, double max_dev, bool asked, std::size_t max_vertices = std::size_t(-1)) {
+  bool overlay(State& o, double max_dev, bool asked, std::size_t max_vertices = std::size_t(-1)) {
     const auto ts = clock::now();
     o.measure();
     const std::size_t start = o.mesh.m.number_of_vertices();
@@ -516,13 +513,13 @@ private:
     if (o.mesh.m.number_of_vertices() >= max_vertices) {
       say("remesh: the overlay reached " + std::to_string(max_vertices) + " vertices; abandoned");
       stats_.seconds_overlay = sec(ts, clock::now());
-      return {};
+      return false;
     }
     if (!asked && o.mesh.m.number_of_vertices() > internal::overlay_max_growth * stats_.layout_vertices) {
       say("remesh: the overlay has more than " + std::to_string(internal::overlay_max_growth) +
           " times the source's vertices; not decimated (--construction overlay would)");
       stats_.seconds_overlay = sec(ts, clock::now());
-      return {};
+      return false;
     }
     const internal::Decimation_result d =
         internal::Overlay_decimator(o, max_dev, o.mesh.n_original_vertices).run();
@@ -587,7 +584,7 @@ private:
         std::to_string(gaps.vertices) + " vertices added in " + fmt(stats_.seconds_overlay_gaps) + " s" +
         (gaps.left ? ", " + std::to_string(gaps.left) + " samples still beyond 0.9 ε" : "") + "; " +
         fmt(stats_.seconds_overlay) + " s in all");
-    return {true, refined_repair_pending_ || overlay_beats_refined()};
+    return true;
   }
 
   /// Folds left (additions to the paper): untangled on the target, off F, which adds no vertex; where that
@@ -697,14 +694,12 @@ private:
   /// The last decimated overlay's faces flipped and in new self-intersecting pairs after its strict repair.
   std::size_t overlay_bad() const { return stats_.overlay_flipped + stats_.overlay_intersecting; }
   /// Whether the last decimated overlay fails fewer strict checks than the refinement's result after its strict
-  /// repair: fewer flipped and intersecting faces, or as many and fewer samples left beyond 0.9 ε.
+  /// repair: fewer flipped and intersecting faces, or as many and fewer samples left beyond 0.9 ε (the overlay
+  /// is certified within 0.9 ε everywhere).
   bool overlay_beats_refined() const {
     const std::size_t refined = stats_.strict_flipped_after + stats_.strict_intersecting_after;
     return overlay_bad() < refined || (overlay_bad() == refined && stats_.overlay_gap_samples_left < stats_.gap_samples_left);
   }
-  /// The refinement's strict repair waits for the overlay (automatic construction, samples left beyond 0.9 ε):
-  /// until it has run, the refinement's result counts as failing every check.
-  bool refined_repair_pending_ = false;
 };
 
 /// \brief One-shot compatible remeshing: cross-parameterizes `source` and `target` (§3-4; the meshes are
