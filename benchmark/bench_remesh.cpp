@@ -55,14 +55,16 @@ struct Attempt {
   double seconds = 0; ///< map and remeshing
 };
 
-Attempt attempt(const Remesh_case& c, double tol, bool with_map_smoothing) {
+/// `global_steps`: those of the map smoothing (the second attempt makes the local steps alone, as the CLI does).
+Attempt attempt(const Remesh_case& c, double tol, bool with_map_smoothing, bool global_steps = true) {
   Attempt a;
   const auto t_start = std::chrono::steady_clock::now();
   a.s = std::make_unique<Surface_mesh>(c.source);
   a.t = std::make_unique<Surface_mesh>(c.target);
   a.map = std::make_unique<Cross_parameterization<Surface_mesh, Surface_mesh>>(
       *a.s, *a.t, c.features,
-      crossparam::parameters::straighten_paths(straighten, crossparam::parameters::map_smoothing(with_map_smoothing)));
+      crossparam::parameters::straighten_paths(straighten, crossparam::parameters::map_smoothing(with_map_smoothing,
+                                                   crossparam::parameters::map_smoothing_global_steps(global_steps))));
   std::function<void(const std::string&)> say;
   if (std::getenv("CROSSPARAM_VERBOSE")) say = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   namespace p = crossparam::parameters;
@@ -104,7 +106,7 @@ void run(const Remesh_case& c, double tol) {
   bool retried = false;
   if (!a.v.valid && !smooth_map && retry_with_map_smoothing) {
     std::fprintf(stderr, "%s at %.3g %%: invalid (%s); again with the map smoothing\n", c.name.c_str(), tol, a.v.message.c_str());
-    Attempt b = attempt(c, tol, true);
+    Attempt b = attempt(c, tol, true, false);
     total += b.seconds;
     if (b.v.valid) a = std::move(b), retried = true;
   }

@@ -28,11 +28,11 @@ struct Bounds {
 // extremity pair kept: 0.0395, 0.0987, 0.0379, 0.0420 on the whole set. With the layout's paths straightened
 // (parameters::straighten_paths): 0.0242, 0.0504 (shrec/382_385), 0.0290, 0.0220 on the subset and 0.0358,
 // 0.0883 (shrec/382_383), 0.0334, 0.0395 on the whole set. With the map smoothing (parameters::map_smoothing):
-// 0.0240, 0.0424 (shrec/382_385), 0.0280, 0.0223 on the subset and 0.0353, 0.0895 (shrec/382_383), 0.0328,
-// 0.0390 on the whole set.
+// 0.0165, 0.0366 (shrec/382_385), 0.0177, 0.0160 on the subset and 0.0287, 0.0791 (shrec/382_383), 0.0258,
+// 0.0332 on the whole set.
 constexpr Bounds subset_bounds{0.0285, 0.055, 0.034, 0.0262};
-constexpr Bounds map_subset_bounds{0.0265, 0.047, 0.031, 0.0245};
-constexpr Bounds map_all_bounds{0.0388, 0.098, 0.0361, 0.0429};
+constexpr Bounds map_subset_bounds{0.0182, 0.0403, 0.0195, 0.0176};
+constexpr Bounds map_all_bounds{0.0316, 0.087, 0.0284, 0.0365};
 constexpr Bounds straight_subset_bounds{0.0267, 0.0555, 0.032, 0.0243};
 constexpr Bounds straight_all_bounds{0.0394, 0.097, 0.0368, 0.0435};
 constexpr Bounds all_bounds{0.0415, 0.10, 0.0397, 0.044};

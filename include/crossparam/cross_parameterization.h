@@ -31,6 +31,9 @@ struct Cross_parameterization_statistics {
   unsigned smoothing_best_iteration = 0; ///< passes after which the kept (least distorted) state was reached
   Smoothing_report smoothing_map;        ///< the smoothing of F itself (`map_smoothing`), after the §4.2 smoothing
   unsigned smoothing_map_best_iteration = 0; ///< its passes up to the kept state (0: none improved F)
+  /// The map smoothing's as-rigid-as-possible energy of F before it (internal/map_smoothing.h; 0 for a
+  /// scaled rigid motion), and of the kept state; both 0 without map smoothing.
+  double map_energy_initial = 0, map_energy = 0;
   std::size_t protrusion_warps = 0;  ///< base triangles re-aligned by align_protrusions (descriptor-guided)
   std::size_t protrusion_features = 0; ///< feature pairs added at squeezed protrusion tips (after the user's)
   std::size_t extremity_features = 0;  ///< feature pairs added at mis-mapped extremities (after those)
@@ -148,6 +151,7 @@ public:
     so.tolerance = choose_parameter(get_parameter(np_source, internal_np::smoothing_tolerance_t()), 1e-4);
     const bool smooth = choose_parameter(get_parameter(np_source, internal_np::apply_smoothing_t()), true);
     const bool smooth_map = choose_parameter(get_parameter(np_source, internal_np::map_smoothing_t()), false);
+    const bool global_steps = choose_parameter(get_parameter(np_source, internal_np::map_smoothing_global_steps_t()), true);
     auto weights = choose_parameter(get_parameter(np_source, internal_np::smoothing_weights_t()), Mean_value_weights());
     const unsigned threads_requested = choose_parameter(get_parameter(np_source, internal_np::number_of_threads_t()), 0u);
     threads_ = internal::thread_count(threads_requested);
@@ -196,9 +200,9 @@ public:
             cs, ct, fc,
             internal::inputs_checked(protrusion_features(false, extremity_features(false, smoothing_weights(weights,
                 smoothing_tolerance(so.tolerance, apply_smoothing(smooth, map_smoothing(with_map_smoothing,
-                    apply_path_flips(flips, consistent_paths(consistent, straighten_paths(straighten,
-                        number_of_threads(threads, time_limit(budget.remaining(), best_effort(budget.best_effort(),
-                            number_of_iterations(so.max_iterations)))))))))))))));
+                    map_smoothing_global_steps(global_steps, apply_path_flips(flips, consistent_paths(consistent,
+                        straighten_paths(straighten, number_of_threads(threads, time_limit(budget.remaining(),
+                            best_effort(budget.best_effort(), number_of_iterations(so.max_iterations))))))))))))))));
         return use(m);
       };
       Feature_correspondence tips, ends;
@@ -330,14 +334,13 @@ public:
       // averaging's fixed point is a harmonic-like map with point constraints at the features, which can be worse
       // than an intermediate state: stop after `patience` rounds without improvement, when the largest move of a
       // round's last pass is below the tolerance, or after `max_iterations` passes. `round(passes)` makes the
-      // passes and returns that move. The map smoothing below runs in the same rounds.
+      // passes and returns that move; `score()` measures the state after a round (lower is better). The map
+      // smoothing below runs in the same rounds, scored by its own energy.
       t3 = clock::now();
-      // `target_moves`: whether the passes move the target's parameterization, whose point location the
-      // distortion measurement needs rebuilt after each round (the map smoothing moves the source's alone).
-      auto in_rounds = [&](const char* what, bool target_moves, Smoothing_report& report, unsigned& best_iteration,
-                           Distortion start, const auto& round) {
+      auto in_rounds = [&](const char* what, Smoothing_report& report, unsigned& best_iteration, double start,
+                           const auto& round, const auto& score) {
         std::array<std::vector<Base_location>, 2> best{P_[0].loc, P_[1].loc};
-        Distortion best_d = start;
+        double best_score = start;
         unsigned bad = 0, done = 0;
         const unsigned per_round = 5, patience = 2;
         while (done < so.max_iterations) {
@@ -350,10 +353,9 @@ public:
           done += passes;
           report.iterations = done;
           say(std::string("map: ") + what + ": " + std::to_string(done) + " passes");
-          if (target_moves) locator_[1].build(P_[1]);
-          const Distortion d = measure_distortion();
-          if (d.angular < best_d.angular) {
-            best_d = d;
+          const double d = score();
+          if (d < best_score) {
+            best_score = d;
             best = {P_[0].loc, P_[1].loc};
             best_iteration = done;
             bad = 0;
@@ -364,6 +366,7 @@ public:
         }
         P_[0].loc = std::move(best[0]);
         P_[1].loc = std::move(best[1]); // locator_[1] is rebuilt by the protrusion alignment, next
+        return best_score;
       };
       if (smooth) {
         auto ws = weights, wt = weights;
@@ -371,8 +374,8 @@ public:
         wt.prepare(B_.side[1].m);
         internal::Local_smoother<decltype(ws)> smooth_s(P_[0], ws);
         internal::Local_smoother<decltype(wt)> smooth_t(P_[1], wt);
-        in_rounds("smoothing", true, stats_.smoothing_source, stats_.smoothing_best_iteration,
-                  stats_.distortion_initial,
+        in_rounds("smoothing", stats_.smoothing_source, stats_.smoothing_best_iteration,
+                  stats_.distortion_initial.angular,
                   [&](unsigned passes) {
           // The two meshes' passes are independent (each moves only its own vertices): one thread each.
           internal::parallel_invoke(
@@ -386,6 +389,9 @@ public:
                   stats_.smoothing_target.last_max_move = smooth_t.pass(stats_.smoothing_target);
               });
           return std::max(stats_.smoothing_source.last_max_move, stats_.smoothing_target.last_max_move);
+        }, [&] {
+          locator_[1].build(P_[1]);
+          return measure_distortion().angular;
         });
         stats_.smoothing_target.iterations = stats_.smoothing_source.iterations;
       }
@@ -405,18 +411,20 @@ public:
       }
       if (smooth && smooth_map) {
         // The smoothing of F itself (internal/map_smoothing.h): the source's vertices move so that F is
-        // harmonic-like from the source onto the target, with the source's smoothing weights.
-        // locator_[1] is current: the protrusion alignment built it and moves the source alone.
+        // as rigid as possible from the source onto the target, with the source's smoothing weights, each round
+        // scored by that energy. locator_[1] is current: the protrusion alignment built it and moves the
+        // source alone, as do these passes.
         auto ws = weights;
         ws.prepare(B_.side[0].m);
-        internal::Map_smoother<decltype(ws)> smooth_f(P_[0], P_[1], locator_[1], ws);
-        in_rounds("map smoothing", false, stats_.smoothing_map, stats_.smoothing_map_best_iteration,
-                  measure_distortion(),
+        internal::Map_smoother<decltype(ws)> smooth_f(P_[0], P_[1], locator_[1], ws, global_steps);
+        stats_.map_energy_initial = smooth_f.energy();
+        stats_.map_energy = in_rounds("map smoothing", stats_.smoothing_map, stats_.smoothing_map_best_iteration,
+                  stats_.map_energy_initial,
                   [&](unsigned passes) {
           for (unsigned i = 0; i < passes; ++i)
             stats_.smoothing_map.last_max_move = smooth_f.pass(stats_.smoothing_map);
           return stats_.smoothing_map.last_max_move;
-        });
+        }, [&] { return smooth_f.energy(); });
       }
     }
     const auto t4 = clock::now();
@@ -817,6 +825,8 @@ private:
       stats_.smoothing_best_iteration = S.smoothing_best_iteration;
       stats_.smoothing_map = S.smoothing_map;
       stats_.smoothing_map_best_iteration = S.smoothing_map_best_iteration;
+      stats_.map_energy_initial = S.map_energy_initial;
+      stats_.map_energy = S.map_energy;
       stats_.protrusion_warps = S.protrusion_warps;
       stats_.distortion_initial = S.distortion_initial;
       stats_.stretch_reweighted_source = S.stretch_reweighted_source;

@@ -30,6 +30,7 @@ struct smoothing_weights_t {};   ///< a model of SmoothingWeights (default Mean_
 struct smoothing_tolerance_t {}; ///< double, base-edge units (default 1e-4)
 struct apply_smoothing_t {};     ///< bool (default true)
 struct map_smoothing_t {};       ///< bool (default false)
+struct map_smoothing_global_steps_t {}; ///< bool (default true)
 struct protrusion_features_t {}; ///< bool (default true)
 struct extremity_features_t {};  ///< bool (default true)
 struct select_extremity_features_t {}; ///< bool (default true)
@@ -84,7 +85,13 @@ CROSSPARAM_ADD_NAMED_PARAMETER(smoothing_weights)
 CROSSPARAM_ADD_NAMED_PARAMETER(smoothing_tolerance)
 /// \brief `bool`, default `true`: whether to smooth the parameterizations (§4.2).
 CROSSPARAM_ADD_NAMED_PARAMETER(apply_smoothing)
+/// \brief `bool`, default `false`: after the §4.2 smoothing, smooth the map itself towards an as-rigid-as-possible
+/// map from the source onto the target (an addition to the paper; see doc/algorithms.md, "Map smoothing").
 CROSSPARAM_ADD_NAMED_PARAMETER(map_smoothing)
+/// \brief `bool`, default `true`: whether each pass of the map smoothing begins with a global step (all the
+/// images' tangent displacements solved for at once) before its vertex-by-vertex step; without it the map
+/// smoothing is local only (less accurate, and faster).
+CROSSPARAM_ADD_NAMED_PARAMETER(map_smoothing_global_steps)
 /// \brief `bool`, default `true`: add feature pairs at the tips of protrusions that a first map squeezes (an
 /// addition to the paper; see doc/algorithms.md). The pairs added are appended to the user's.
 CROSSPARAM_ADD_NAMED_PARAMETER(protrusion_features)

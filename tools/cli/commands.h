@@ -116,12 +116,12 @@ inline Map cross_parameterize(const Options& o, Surface_mesh& s, Surface_mesh& t
   return Map(s, t, f,
              cp::apply_path_flips(
                  o.flips, cp::straighten_paths(o.straighten, cp::apply_smoothing(
-                              o.smoothing, cp::map_smoothing(o.map_smoothing, cp::protrusion_features(
+                              o.smoothing, cp::map_smoothing(o.map_smoothing, cp::map_smoothing_global_steps(o.map_smoothing_global, cp::protrusion_features(
                                                o.protrusion_features, cp::extremity_features(o.extremity_features,
                                                cp::select_extremity_features(o.select_extremities, cp::number_of_threads(
                                                    o.threads, cp::time_limit(remaining_seconds(o), cp::best_effort(o.best_effort,
                                                        cp::progress(progress_printer(o),
-                                                           CGAL::parameters::number_of_iterations(o.iterations)))))))))))),
+                                                           CGAL::parameters::number_of_iterations(o.iterations))))))))))))),
              CGAL::parameters::default_values());
 }
 
@@ -176,8 +176,8 @@ inline int run_remesh(const Options& user) {
   Map_smoothing_retry retry;
   if (!checked.check.valid && o.smoothing && !o.map_smoothing && o.map_smoothing_retry) {
     // A map that squeezes a part of the target into a sliver of the source leaves the overlay faces it cannot
-    // make exact; the map smoothed as a map spreads that part (doc/algorithms.md, "A map smoothed where the
-    // remeshing fails"). The second result is kept if it passes the checks.
+    // make exact; the map smoothed as a map, by its local steps alone, spreads that part (doc/algorithms.md, "A
+    // map smoothed where the remeshing fails"). The second result is kept if it passes the checks.
     retry.tried = true;
     retry.first_message = checked.check.message;
     retry.first_seconds = first.seconds();
@@ -186,6 +186,7 @@ inline int run_remesh(const Options& user) {
                 << "); again with the map smoothed as a map (--map-smoothing; --no-map-smoothing-retry skips this)\n";
     Options o2 = o;
     o2.map_smoothing = true;
+    o2.map_smoothing_global = false;
     try {
       Surface_mesh s2 = source0, t2 = target0;
       const Map cp2 = cross_parameterize(o2, s2, t2, in.features);

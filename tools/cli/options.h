@@ -59,8 +59,8 @@ inline const char* const usage_text =
     "  --iterations N    smoothing passes at most (map; default 200)\n"
     "  --no-smoothing    skip the smoothing of section 4.2 (map)\n"
     "  --map-smoothing   map, remesh, demo: after the smoothing of section 4.2, smooth the map itself\n"
-    "                    (the source's vertices move so that their images average their neighbours' on the\n"
-    "                    target; on the wider bench a more accurate map on average, at about 2.5 times the\n"
+    "                    (the source's vertices move so that the map is as rigid as possible onto the\n"
+    "                    target; on the wider bench a more accurate map on average, at about 5 times the\n"
     "                    map's time)\n"
     "  --no-map-smoothing-retry\n"
     "                    remesh: where the remeshing fails the strict checks, do not map and remesh again\n"
@@ -122,6 +122,7 @@ struct Options {
   bool png = false;
   bool smoothing = true;
   bool map_smoothing = false;
+  bool map_smoothing_global = true; ///< its global steps (off only in remesh's second attempt)
   bool map_smoothing_retry = true; ///< remesh: again with the map smoothing where the remeshing fails the checks
   bool protrusion_features = true;
   bool extremity_features = true;  ///< look for pairs at extremities

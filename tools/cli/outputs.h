@@ -338,7 +338,8 @@ inline void write_map(const Options& o, const Map& cp, double read_s) {
     j.member("migrations", S.smoothing_source.migrations + S.smoothing_target.migrations).end_object();
     j.key("map_smoothing").begin_object().member("passes", S.smoothing_map.iterations).member("kept_after", S.smoothing_map_best_iteration);
     j.member("moves", S.smoothing_map.moves).member("rejected", S.smoothing_map.rejected);
-    j.member("migrations", S.smoothing_map.migrations).end_object();
+    j.member("migrations", S.smoothing_map.migrations);
+    j.member("energy_initial", S.map_energy_initial).member("energy", S.map_energy).end_object();
     distortion(j, "distortion_before_smoothing", S.distortion_initial);
     distortion(j, "distortion", S.distortion);
     j.key("certificate").begin_object();
