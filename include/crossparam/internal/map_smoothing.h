@@ -169,12 +169,7 @@ private:
     for (WV v : ms.vertices()) {
       if (index[v] < 0) continue;
       const Eigen::Vector3d z = basis(v) * a.segment<2>(2 * index[v]);
-      if (move(v, Vector_3(z(0), z(1), z(2)), max_move, r)) {
-        ++r.moves;
-        relocate(v);
-      } else {
-        ++r.rejected;
-      }
+      step(v, Vector_3(z(0), z(1), z(2)), max_move, r);
     }
   }
 
@@ -194,13 +189,7 @@ private:
         const Eigen::Vector3d rx = 0.5 * scale_ * (rotation_[v] + rotation_[j]) * eigen(ms.point(v) - ms.point(j));
         d = d + w * (image_[j] - image_[v] + Vector_3(rx(0), rx(1), rx(2)));
       }
-      if (!(sw > 0)) continue;
-      if (move(v, d / sw, max_move, r)) {
-        ++r.moves;
-        relocate(v);
-      } else {
-        ++r.rejected;
-      }
+      if (sw > 0) step(v, d / sw, max_move, r);
     }
   }
 
@@ -223,6 +212,16 @@ private:
       Eigen::Matrix3d u = svd.matrixU();
       if ((svd.matrixV() * u.transpose()).determinant() < 0) u.col(2) *= -1;
       rotation_[v] = svd.matrixV() * u.transpose();
+    }
+  }
+
+  /// Moves v by z if the exact test allows (see move()), counted in the report; its image located again.
+  void step(WV v, const Vector_3& z, double& max_move, Smoothing_report& r) {
+    if (move(v, z, max_move, r)) {
+      ++r.moves;
+      relocate(v);
+    } else {
+      ++r.rejected;
     }
   }
 
