@@ -93,6 +93,12 @@ public:
 private:
   static Eigen::Vector3d eigen(const Vector_3& a) { return {a.x(), a.y(), a.z()}; }
 
+  /// s (R_v + R_j)/2 (x_j - x_v): where the edge v -> j would go under the mean of its ends' rotations, scaled.
+  Eigen::Vector3d rigid_edge(WV v, WV j) const {
+    const Work_mesh& ms = s_.mesh->m;
+    return 0.5 * scale_ * (rotation_[v] + rotation_[j]) * eigen(ms.point(j) - ms.point(v));
+  }
+
   /// The global step: the rotations fitted, the tangent displacements a_v of every free vertex's image (in the
   /// plane of the target face that holds it, orthonormal basis T_v) that minimise
   /// Σ_edges w |(y_j + T_j a_j) - (y_v + T_v a_v) - s (R_v + R_j)/2 (x_j - x_v)|² are solved for at once (a sparse
@@ -137,8 +143,7 @@ private:
       const double w = 0.5 * (w_(h) + w_(ms.opposite(h)));
       largest_weight = std::max(largest_weight, w);
       const Eigen::Matrix<double, 3, 2> tv = basis(v), tj = basis(j);
-      const Eigen::Vector3d res = eigen(image_[j] - image_[v]) -
-                                  0.5 * scale_ * (rotation_[v] + rotation_[j]) * eigen(ms.point(j) - ms.point(v));
+      const Eigen::Vector3d res = eigen(image_[j] - image_[v]) - rigid_edge(v, j);
       const int iv = index[v], ij = index[j];
       if (iv >= 0) {
         add(iv, iv, w * tv.transpose() * tv);
@@ -186,8 +191,8 @@ private:
         const WV j = ms.target(h);
         const double w = w_(h);
         sw += w;
-        const Eigen::Vector3d rx = 0.5 * scale_ * (rotation_[v] + rotation_[j]) * eigen(ms.point(v) - ms.point(j));
-        d = d + w * (image_[j] - image_[v] + Vector_3(rx(0), rx(1), rx(2)));
+        const Eigen::Vector3d rx = rigid_edge(v, j);
+        d = d + w * (image_[j] - image_[v] - Vector_3(rx(0), rx(1), rx(2)));
       }
       if (sw > 0) step(v, d / sw, max_move, r);
     }
